@@ -1,0 +1,33 @@
+# Helpers that give every sdv target the same warnings and layout.
+
+# sdv_warnings(target): the house warning set; -Werror when SDV_WERROR is on.
+function(sdv_warnings target)
+    target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wconversion
+                                             -Wno-sign-conversion)
+    if(SDV_WERROR)
+        target_compile_options(${target} PRIVATE -Werror)
+    endif()
+endfunction()
+
+# sdv_library(name SOURCES ... DEPS ...): static library sdv_<name> with alias sdv::<name>.
+# Headers are included as "<folder>/<file>.h" relative to the repository root.
+function(sdv_library name)
+    cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+    add_library(sdv_${name} STATIC ${ARG_SOURCES})
+    add_library(sdv::${name} ALIAS sdv_${name})
+    target_include_directories(sdv_${name} PUBLIC ${PROJECT_SOURCE_DIR})
+    target_link_libraries(sdv_${name} PUBLIC ${ARG_DEPS})
+    sdv_warnings(sdv_${name})
+endfunction()
+
+# sdv_unit_test(name SOURCES ... DEPS ...): a doctest executable registered with CTest.
+function(sdv_unit_test name)
+    cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+    add_executable(${name} ${PROJECT_SOURCE_DIR}/tests/unit/doctest_main.cpp ${ARG_SOURCES})
+    target_link_libraries(${name} PRIVATE ${ARG_DEPS} doctest::doctest)
+    target_compile_definitions(${name} PRIVATE
+        SDV_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+        SDV_SHARED_DIR="${PROJECT_SOURCE_DIR}/../shared")
+    sdv_warnings(${name})
+    add_test(NAME ${name} COMMAND ${name})
+endfunction()

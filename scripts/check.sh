@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Install, build and run every test: the CI build (warnings as errors), then the same tests
+# under AddressSanitizer + UndefinedBehaviorSanitizer. The last line is CTest's summary.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+jobs="$(nproc)"
+cmake --preset ci >/dev/null
+cmake --build --preset ci -j "$jobs"
+ctest --preset ci -j "$jobs"
+if [ "${SDV_SKIP_ASAN:-0}" != 1 ]; then
+    cmake --preset asan >/dev/null
+    cmake --build --preset asan -j "$jobs"
+    ctest --preset asan -j "$jobs"
+fi

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Installs the Debian packages sdv builds against (SPEC §2). Run as root on Debian 12.
+set -euo pipefail
+pkgs=(build-essential cmake antlr4 libantlr4-runtime-dev libeigen3-dev libpugixml-dev libcli11-dev
+      doctest-dev nlohmann-json3-dev libgeographiclib-dev libbenchmark-dev)
+missing=()
+for p in "${pkgs[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+    SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}"
+fi
