@@ -1,0 +1,288 @@
+// The `sdv` executable: parses the command line (CLI11), calls the libraries, prints, and
+// decides the exit code: 0 ok, 1 user-level failure (diagnostics, failed expectations),
+// 2 usage error, 3 internal error. No verb logic lives here beyond wiring.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "compiler/ast/ast.h"
+#include "compiler/diag/diagnostic_engine.h"
+#include "compiler/diag/render.h"
+#include "compiler/ir/ir_io.h"
+#include "compiler/sema/compile.h"
+#include "compiler/syntax/parser.h"
+#include "runtime/catalog/catalog.h"
+
+namespace {
+
+using namespace sdv;
+
+constexpr int kOk = 0;
+constexpr int kFailure = 1;
+constexpr int kUsage = 2;
+constexpr int kInternal = 3;
+
+// Warning flags in the compiler style (-Werror, -Werror=NAME, -Wno-NAME, -w) are taken out of
+// argv before CLI11 sees them.
+struct WarningFlags {
+    diag::DiagnosticEngine::WarningPolicy policy;
+    std::vector<std::string> unknown;
+};
+
+const std::vector<std::string> kWarningNames = {"unused-tree", "unused-parameter", "unused-import",
+                                                "no-expectations"};
+
+WarningFlags extract_warning_flags(std::vector<std::string>& args) {
+    WarningFlags f;
+    std::vector<std::string> rest;
+    for (const auto& a : args) {
+        auto known = [&](const std::string& n) {
+            if (std::find(kWarningNames.begin(), kWarningNames.end(), n) == kWarningNames.end()) {
+                f.unknown.push_back(n);
+            }
+        };
+        if (a == "-Werror") {
+            f.policy.all_errors = true;
+        } else if (a == "-w") {
+            f.policy.disable_all = true;
+        } else if (a.rfind("-Werror=", 0) == 0) {
+            f.policy.promoted.insert(a.substr(8));
+            known(a.substr(8));
+        } else if (a.rfind("-Wno-", 0) == 0) {
+            f.policy.disabled.insert(a.substr(5));
+            known(a.substr(5));
+        } else if (a.rfind("-W", 0) == 0 && a.size() > 2) {
+            known(a.substr(2));  // -Wname: warnings are on by default
+        } else {
+            rest.push_back(a);
+        }
+    }
+    args = std::move(rest);
+    return f;
+}
+
+struct Common {
+    std::string format = "text";
+    std::vector<std::string> import_dirs;
+    bool color = false;
+};
+
+// Prints diagnostics (text to stderr, JSON to stdout) and returns whether there were errors.
+bool report(diag::DiagnosticEngine& diags, const diag::SourceManager& sm, const Common& c) {
+    const auto all = diags.sorted();
+    if (c.format == "json") {
+        std::cout << diag::render_all_json(all, sm) << "\n";
+    } else if (!all.empty()) {
+        std::cerr << diag::render_all_text(all, sm);
+    }
+    return diags.has_errors();
+}
+
+std::string summary(const ir::Program& p, const std::string& hash) {
+    std::ostringstream out;
+    for (const auto& s : p.scenarios) {
+        out << "scenario " << s.name;
+        if (s.road >= 0) {
+            const auto& r = p.roads[static_cast<size_t>(s.road)];
+            out << " on " << (r.kind == ir::RoadKind::road       ? "road "
+                              : r.kind == ir::RoadKind::junction ? "junction "
+                                                                 : "map ")
+                << r.name;
+        }
+        out << ": " << s.vehicles.size() << " vehicle" << (s.vehicles.size() == 1 ? "" : "s")
+            << ", timeout " << s.timeout << " s, seed " << s.seed << ", " << s.expect_roots.size()
+            << " expectation" << (s.expect_roots.size() == 1 ? "" : "s") << "\n";
+        for (const auto& v : s.vehicles) {
+            out << "  " << (v.is_ego ? "ego " : "    ") << v.name << ": "
+                << (v.kind == ir::VehicleKind::sdv          ? "sdv"
+                    : v.kind == ir::VehicleKind::trajectory ? "trajectory"
+                    : v.kind == ir::VehicleKind::static_object ? "static"
+                                                               : "external");
+            if (!v.start.xy) out << ", starts on " << v.start.lane << " at " << v.start.s << " m";
+            if (v.tree >= 0) {
+                const auto& inst = p.instances[static_cast<size_t>(v.tree)];
+                int maneuvers = 0;
+                for (const auto& n : inst.nodes) maneuvers += n.kind == ir::NodeKind::maneuver;
+                out << ", tree of " << inst.nodes.size() << " nodes (" << maneuvers
+                    << " maneuver" << (maneuvers == 1 ? "" : "s") << ")";
+            }
+            out << "\n";
+        }
+        for (int32_t root : s.expect_roots) {
+            out << "  expect " << s.expects[static_cast<size_t>(root)].text << "\n";
+        }
+    }
+    if (p.scenarios.empty()) out << p.trees.size() << " trees, no scenario\n";
+    out << "IR hash " << hash << "\n";
+    return out.str();
+}
+
+int cmd_lint(const std::vector<std::string>& files, const Common& c, const WarningFlags& w) {
+    bool errors = false;
+    nlohmann::ordered_json all = nlohmann::ordered_json::array();
+    for (const auto& f : files) {
+        diag::SourceManager sm;
+        diag::DiagnosticEngine diags(sm);
+        diags.set_policy(w.policy);
+        compiler::CompileOptions opts{c.import_dirs};
+        compiler::compile_file(f, sm, diags, opts);
+        errors = report(diags, sm, c) || errors;
+    }
+    return errors ? kFailure : kOk;
+}
+
+int cmd_compile(const std::string& file, const std::string& out, const std::string& emit,
+                const Common& c, const WarningFlags& w) {
+    diag::SourceManager sm;
+    diag::DiagnosticEngine diags(sm);
+    diags.set_policy(w.policy);
+    if (emit == "tokens") {
+        std::ifstream in(file, std::ios::binary);
+        if (!in) {
+            std::cerr << "sdv: error: cannot read '" << file << "'\n";
+            return kFailure;
+        }
+        std::stringstream ss;
+        ss << in.rdbuf();
+        const auto id = sm.add_file(file, ss.str());
+        std::cout << compiler::syntax::dump_tokens(id, sm);
+        return kOk;
+    }
+    compiler::CompileOptions opts{c.import_dirs};
+    auto result = compiler::compile_file(file, sm, diags, opts);
+    if (emit == "ast") {
+        if (!result.files.empty() && result.files[0]) {
+            std::cout << compiler::ast::dump(*result.files[0], sm);
+        }
+        return report(diags, sm, c) ? kFailure : kOk;
+    }
+    if (report(diags, sm, c) || !result.program) return kFailure;
+    const std::string text = ir::write_ir(*result.program);
+    if (emit == "ir" || out.empty() || out == "-") {
+        std::cout << text;
+        return kOk;
+    }
+    std::ofstream o(out, std::ios::binary);
+    o << text;
+    if (!o) {
+        std::cerr << "sdv: error: cannot write '" << out << "'\n";
+        return kFailure;
+    }
+    std::cout << summary(*result.program, ir::program_hash(*result.program)) << "wrote " << out
+              << "\n";
+    return kOk;
+}
+
+int cmd_catalog(const std::string& format) {
+    if (format == "json") {
+        std::cout << catalog::to_json().dump(2) << "\n";
+    } else if (format == "markdown") {
+        std::cout << catalog::render_markdown();
+    } else {
+        std::cout << catalog::render_text();
+    }
+    return kOk;
+}
+
+int run(int argc, char** argv) {
+    std::vector<std::string> args(argv + 1, argv + argc);
+    WarningFlags warnings = extract_warning_flags(args);
+    if (!warnings.unknown.empty()) {
+        std::string list;
+        for (const auto& n : kWarningNames) list += (list.empty() ? "" : ", ") + n;
+        std::cerr << "sdv: error: unknown warning '" << warnings.unknown[0]
+                  << "' (known: " << list << ")\n";
+        return kUsage;
+    }
+    CLI::App app{"sdv: scenario DSL compiler and runtime for the Simulated Driver-Vehicle model"};
+    app.set_version_flag("--version", std::string(compiler::kCompilerVersion) + " (IR format " +
+                                          std::to_string(ir::kFormatVersion) + ")");
+    app.require_subcommand(1);
+    Common common;
+    auto add_common = [&](CLI::App* sub) {
+        sub->add_option("--format", common.format, "diagnostics format")
+            ->check(CLI::IsMember({"text", "json"}));
+        sub->add_option("-I,--import-dir", common.import_dirs,
+                        "extra directory searched for relative imports");
+    };
+
+    std::vector<std::string> lint_files;
+    auto* lint = app.add_subcommand("lint", "parse and check .sdv files; all diagnostics at once. "
+                                            "Warnings: -Wno-NAME, -Werror, -Werror=NAME");
+    lint->add_option("files", lint_files, ".sdv files")->required();
+    add_common(lint);
+
+    std::string compile_file, compile_out, emit;
+    auto* compile = app.add_subcommand("compile", "check a .sdv file and write its IR (.sdvir)");
+    compile->add_option("file", compile_file, ".sdv file")->required();
+    compile->add_option("-o,--output", compile_out, "output .sdvir file ('-' for stdout)");
+    compile->add_option("--emit", emit, "print an intermediate stage instead")
+        ->check(CLI::IsMember({"tokens", "ast", "ir"}));
+    add_common(compile);
+
+    std::string catalog_format = "text";
+    auto* cat = app.add_subcommand("catalog", "every maneuver, condition and expectation with its "
+                                              "parameters, units, defaults and meaning");
+    cat->add_option("--format", catalog_format, "text, json or markdown")
+        ->check(CLI::IsMember({"text", "json", "markdown"}));
+
+    std::string check_file;
+    auto* check_ir = app.add_subcommand("check-ir", "validate a .sdvir file (format, version, hash, "
+                                                    "structure)");
+    check_ir->add_option("file", check_file, ".sdvir file")->required();
+
+    std::vector<const char*> cargv;
+    cargv.push_back(argv[0]);
+    for (const auto& a : args) cargv.push_back(a.c_str());
+    try {
+        app.parse(static_cast<int>(cargv.size()), const_cast<char**>(cargv.data()));
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        app.exit(e);
+        return kUsage;
+    }
+
+    if (lint->parsed()) return cmd_lint(lint_files, common, warnings);
+    if (compile->parsed()) return cmd_compile(compile_file, compile_out, emit, common, warnings);
+    if (cat->parsed()) return cmd_catalog(catalog_format);
+    if (check_ir->parsed()) {
+        std::ifstream in(check_file, std::ios::binary);
+        if (!in) {
+            std::cerr << "sdv: error: cannot read '" << check_file << "'\n";
+            return kFailure;
+        }
+        std::stringstream ss;
+        ss << in.rdbuf();
+        auto r = ir::read_ir(ss.str());
+        if (!r.program) {
+            std::cerr << check_file << ": error: " << r.error << "\n";
+            return kFailure;
+        }
+        std::cout << summary(*r.program, ir::program_hash(*r.program));
+        return kOk;
+    }
+    return kUsage;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    try {
+        return run(argc, argv);
+    } catch (const std::exception& e) {
+        std::cerr << "sdv: internal error: " << e.what() << "\n";
+        return kInternal;
+    } catch (...) {
+        std::cerr << "sdv: internal error\n";
+        return kInternal;
+    }
+}

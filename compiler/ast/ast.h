@@ -1,0 +1,247 @@
+// The owned AST of a .sdv file. Every node carries the source range it came from so that
+// every later message (checker, runtime, traces) can point back to the text. The AST is a
+// faithful record of what was written: no defaults, no name resolution, units as spelled
+// (canonicalised to ASCII) next to the SI value.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "compiler/diag/source_manager.h"
+
+namespace sdv::compiler::ast {
+
+using diag::SourceRange;
+
+struct Ident {
+    std::string text;
+    SourceRange range;
+};
+
+struct QualName {
+    std::vector<Ident> parts;
+    SourceRange range;
+
+    std::string str() const;  // "std.drive"
+};
+
+// A number with an optional unit, e.g. `-3 m/s`, `10%`, `4`.
+struct Quantity {
+    double value = 0.0;    // as written (not SI)
+    std::string text;      // the number as written, e.g. "13.9"
+    bool is_integer = false;
+    std::string unit;      // canonical ASCII unit ("m/s^2"); empty when none
+    SourceRange unit_range;
+};
+
+struct Primary {
+    enum class Kind { quantity, name, string } kind = Kind::quantity;
+    Quantity quantity;
+    QualName name;
+    std::string string;  // unescaped
+    SourceRange range;
+};
+
+struct Samples {
+    int64_t count = 1;
+    SourceRange count_range;
+    std::optional<Ident> method;       // linear (default), uniform, normal
+    std::optional<Primary> method_arg; // normal(σ)
+    SourceRange range;
+};
+
+// A value: a primary, optionally spread (`14 m/s ±10% samples 3`), an interval
+// (`10 m .. 20 m samples 5`), or a list (`[a, b]`).
+struct Value {
+    enum class Kind { single, interval, list } kind = Kind::single;
+    Primary lo;
+    std::optional<Primary> spread;  // single: ± amount
+    std::optional<Primary> hi;      // interval: upper bound
+    std::optional<Samples> samples;
+    std::vector<Value> items;       // list
+    SourceRange range;
+};
+
+struct Arg {
+    QualName name;  // `speed`, or `keep.speed` for a node override at a subtree reference
+    Value value;
+    SourceRange range;
+};
+
+enum class NodeKind {
+    fallback,
+    sequence,
+    reactive_sequence,
+    parallel,
+    condition,
+    maneuver,
+    subtree,
+    not_,
+    once,
+};
+const char* to_string(NodeKind kind);
+
+struct Node {
+    NodeKind kind = NodeKind::sequence;
+    std::optional<Ident> label;  // `keep: maneuver keep_velocity(...)`
+    QualName callee;             // condition / maneuver / subtree name
+    std::vector<Arg> args;       // leaf parameters, subtree arguments, parallel policy
+    std::vector<std::unique_ptr<Node>> children;
+    SourceRange keyword_range;   // the node's keyword, where carets point
+    SourceRange range;
+};
+
+struct Param {
+    Ident name;
+    Ident type;
+    std::optional<Value> def;
+    SourceRange range;
+};
+
+struct TreeDecl {
+    Ident name;
+    std::vector<Param> params;
+    std::vector<std::unique_ptr<Node>> body;  // exactly one root when valid
+    SourceRange range;
+};
+
+// `key value...` statements whose shape the checker validates (lane_width 3.5 m, timeout 30 s).
+struct Setting {
+    Ident key;
+    std::vector<Value> values;
+    SourceRange range;
+};
+
+struct Segment {
+    bool arc = false;
+    Value length;
+    std::optional<Value> radius;
+    std::optional<Ident> side;  // left / right
+    SourceRange range;
+};
+
+struct LaneCount {
+    int64_t count = 0;
+    SourceRange count_range;
+    Ident direction;  // forward / backward
+    SourceRange range;
+};
+
+struct RoadDecl {
+    Ident name;
+    std::vector<LaneCount> lanes;
+    SourceRange lanes_range;
+    std::vector<Setting> settings;  // lane_width, speed_limit, origin (2 values), heading
+    std::vector<Segment> segments;
+    SourceRange range;
+};
+
+struct JunctionDecl {
+    Ident name;
+    std::vector<Setting> settings;  // lanes, lane_width, speed_limit, arm_length, control
+    SourceRange range;
+};
+
+struct MapDecl {
+    Ident name;
+    std::vector<Setting> settings;  // file "x.osm", origin (lat, lon[, alt])
+    SourceRange range;
+};
+
+struct LaneRef {
+    enum class Kind { index, name, string } kind = Kind::index;
+    int64_t index = 0;
+    QualName name;
+    std::string string;
+    SourceRange range;
+
+    std::string str() const;
+};
+
+struct Position {
+    bool xy = false;
+    LaneRef lane;
+    std::optional<Value> s;       // lane position: `at 40 m`
+    std::optional<Value> offset;  // lateral offset from the lane centre
+    std::optional<Value> x, y;    // xy position: `at (10 m, 2 m)`
+    std::optional<Value> heading;
+    SourceRange range;
+};
+
+struct Waypoint {
+    Value time;
+    Position position;
+    std::optional<Value> speed;
+    SourceRange range;
+};
+
+struct TreeRef {
+    QualName name;
+    std::vector<Arg> args;
+    SourceRange range;
+};
+
+struct VehicleDecl {
+    bool is_ego = false;
+    bool is_object = false;  // `object name { ... }`: a static obstacle
+    Ident name;
+    Ident kind;              // sdv / trajectory / static / external (objects: "static")
+    std::vector<Position> starts;  // more than one is an error
+    std::vector<Position> goals;
+    std::vector<Setting> settings;  // speed, length, width
+    std::vector<std::vector<LaneRef>> routes;
+    std::vector<TreeRef> trees;
+    std::vector<std::vector<Waypoint>> trajectories;
+    SourceRange range;
+};
+
+struct LightDecl {
+    QualName name;
+    std::vector<Setting> phases;  // green 20 s, yellow 3 s, red 23 s (in order)
+    std::optional<Value> offset;
+    SourceRange range;
+};
+
+struct Expr {
+    enum class Kind { not_, and_, or_, call } kind = Kind::call;
+    std::unique_ptr<Expr> lhs, rhs;
+    Ident function;
+    std::vector<Ident> args;
+    std::string cmp;  // "<", "<=", ">", ">=" or empty
+    std::optional<Value> bound;
+    SourceRange range;
+};
+
+struct ScenarioDecl {
+    Ident name;
+    std::vector<Setting> settings;  // road NAME, timeout, seed, rate NAME VALUE
+    std::vector<VehicleDecl> vehicles;
+    std::vector<LightDecl> lights;
+    std::vector<std::unique_ptr<Expr>> expects;
+    SourceRange range;
+};
+
+struct ImportDecl {
+    std::string path;
+    std::optional<Ident> alias;
+    SourceRange range;
+    SourceRange path_range;
+};
+
+struct File {
+    diag::FileId file = 0;
+    std::vector<ImportDecl> imports;
+    std::vector<RoadDecl> roads;
+    std::vector<JunctionDecl> junctions;
+    std::vector<MapDecl> maps;
+    std::vector<TreeDecl> trees;
+    std::vector<ScenarioDecl> scenarios;
+};
+
+// A readable dump for `sdv compile --emit ast`.
+std::string dump(const File& file, const diag::SourceManager& sm);
+
+}  // namespace sdv::compiler::ast

@@ -1,0 +1,146 @@
+#include "compiler/diag/render.h"
+
+#include <algorithm>
+
+namespace sdv::diag {
+namespace {
+
+const char* severity_word(Severity s) {
+    switch (s) {
+        case Severity::error: return "error";
+        case Severity::warning: return "warning";
+        case Severity::note: return "note";
+    }
+    return "error";
+}
+
+size_t code_points(std::string_view s) {
+    size_t n = 0;
+    for (char c : s) n += (static_cast<unsigned char>(c) & 0xC0) != 0x80;
+    return n;
+}
+
+// The source line under a location with a caret line below it.
+std::string snippet(SourceRange r, const SourceManager& sm) {
+    const auto b = sm.line_col(r.begin);
+    if (b.line == 0) return "";
+    std::string text(sm.line_text(r.begin.file, b.line));
+    // Long lines (generated files) are cut so that the snippet stays readable.
+    constexpr size_t kMaxShown = 200;
+    size_t col = b.col;
+    std::string shown;
+    size_t cps = 0;
+    for (size_t i = 0; i < text.size(); ++i) {
+        const auto c = static_cast<unsigned char>(text[i]);
+        if ((c & 0xC0) != 0x80) ++cps;
+        if (cps > kMaxShown + col && cps > kMaxShown) break;
+        shown += (c == '\t' || c < 0x20) ? ' ' : text[i];
+    }
+    // Width of the underline: the range on this line, at least one.
+    size_t width = 1;
+    const auto e = sm.line_col(r.end);
+    if (r.end.file == r.begin.file && r.end.offset > r.begin.offset) {
+        width = e.line == b.line ? std::max<size_t>(1, e.col - b.col)
+                                 : std::max<size_t>(1, code_points(shown) + 1 - col);
+    }
+    const std::string num = std::to_string(b.line);
+    const size_t gutter = std::max<size_t>(4, num.size());
+    std::string out = std::string(gutter - num.size() + 1, ' ') + num + " | " + shown + "\n";
+    out += std::string(gutter + 1, ' ') + " | " + std::string(col - 1, ' ') + "^" +
+           std::string(width - 1, '~') + "\n";
+    return out;
+}
+
+std::string location(SourceRange r, const SourceManager& sm) {
+    const auto lc = sm.line_col(r.begin);
+    return sm.path(r.begin.file) + ":" + std::to_string(lc.line) + ":" + std::to_string(lc.col);
+}
+
+}  // namespace
+
+std::string render_text(const Diagnostic& d, const SourceManager& sm) {
+    std::string out;
+    const std::string head = std::string(severity_word(d.severity)) + "[" + d.code + "]: " + d.message +
+                             (d.warning_name.empty() || d.severity != Severity::warning
+                                  ? ""
+                                  : " [-W" + d.warning_name + "]");
+    if (d.range.valid()) {
+        out = location(d.range, sm) + ": " + head + "\n" + snippet(d.range, sm);
+    } else {
+        out = "sdv: " + head + "\n";
+    }
+    for (const auto& n : d.notes) {
+        if (n.range.valid()) {
+            out += location(n.range, sm) + ": note: " + n.message + "\n" + snippet(n.range, sm);
+        } else {
+            out += "note: " + n.message + "\n";
+        }
+    }
+    return out;
+}
+
+std::string render_all_text(const std::vector<Diagnostic>& ds, const SourceManager& sm) {
+    std::string out;
+    size_t errors = 0, warnings = 0;
+    for (const auto& d : ds) {
+        out += render_text(d, sm);
+        errors += d.severity == Severity::error;
+        warnings += d.severity == Severity::warning;
+    }
+    if (errors + warnings > 0) {
+        std::string summary;
+        if (errors) summary = std::to_string(errors) + (errors == 1 ? " error" : " errors");
+        if (warnings) {
+            summary += (summary.empty() ? "" : ", ") + std::to_string(warnings) +
+                       (warnings == 1 ? " warning" : " warnings");
+        }
+        out += summary + " generated.\n";
+    }
+    return out;
+}
+
+nlohmann::ordered_json to_json(const Diagnostic& d, const SourceManager& sm) {
+    nlohmann::ordered_json j;
+    j["severity"] = severity_word(d.severity);
+    j["code"] = d.code;
+    if (!d.warning_name.empty()) j["name"] = d.warning_name;
+    j["message"] = d.message;
+    if (d.range.valid()) {
+        const auto b = sm.line_col(d.range.begin);
+        const auto e = sm.line_col(d.range.end.file != 0 ? d.range.end : d.range.begin);
+        j["file"] = sm.path(d.range.begin.file);
+        j["line"] = b.line;
+        j["column"] = b.col;
+        j["end_line"] = e.line;
+        j["end_column"] = e.col;
+    }
+    j["notes"] = nlohmann::ordered_json::array();
+    for (const auto& n : d.notes) {
+        nlohmann::ordered_json nj;
+        nj["message"] = n.message;
+        if (n.range.valid()) {
+            const auto b = sm.line_col(n.range.begin);
+            nj["file"] = sm.path(n.range.begin.file);
+            nj["line"] = b.line;
+            nj["column"] = b.col;
+        }
+        j["notes"].push_back(nj);
+    }
+    return j;
+}
+
+std::string render_all_json(const std::vector<Diagnostic>& ds, const SourceManager& sm) {
+    nlohmann::ordered_json j;
+    j["diagnostics"] = nlohmann::ordered_json::array();
+    size_t errors = 0, warnings = 0;
+    for (const auto& d : ds) {
+        j["diagnostics"].push_back(to_json(d, sm));
+        errors += d.severity == Severity::error;
+        warnings += d.severity == Severity::warning;
+    }
+    j["errors"] = errors;
+    j["warnings"] = warnings;
+    return j.dump(2);
+}
+
+}  // namespace sdv::diag

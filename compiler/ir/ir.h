@@ -1,0 +1,205 @@
+// The checked IR (.sdvir): what the runtime runs. Self-contained (imports inlined, subtrees
+// expanded per vehicle, defaults resolved), SI units only, names resolved to indices, every
+// node with its source location. Plain data in flat vectors; it exists only when the checker
+// found no errors, and the reader validates everything it loads.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "runtime/catalog/catalog.h"
+
+namespace sdv::ir {
+
+inline constexpr int kFormatVersion = 1;
+inline constexpr const char* kFormatName = "sdvir";
+
+// A source position kept for messages and traces: index into Program::files, 1-based line/col.
+struct SourceLoc {
+    uint32_t file = 0;
+    uint32_t line = 0;
+    uint32_t col = 0;
+    friend bool operator==(const SourceLoc&, const SourceLoc&) = default;
+};
+
+enum class SampleMethod { linear, uniform, normal };
+
+// A possibly sampled number in SI units. A single value has samples == 1 and lo == hi == value.
+struct Sampled {
+    double value = 0.0;
+    double lo = 0.0;
+    double hi = 0.0;
+    int samples = 1;
+    SampleMethod method = SampleMethod::linear;
+    double sigma = 0.0;  // normal: standard deviation (SI)
+    friend bool operator==(const Sampled&, const Sampled&) = default;
+};
+
+// How a vehicle parameter names its vehicle.
+struct VehicleRef {
+    enum class Kind { none, self, vehicle, zone } kind = Kind::none;
+    int32_t vehicle = -1;  // Kind::vehicle: index into Scenario::vehicles
+    int32_t zone = -1;     // Kind::zone: index into catalog::vehicle_zones() (front = 2, ...)
+    friend bool operator==(const VehicleRef&, const VehicleRef&) = default;
+};
+
+// One parameter of a leaf, resolved. `given` is false only for optional parameters that have
+// no default and were not written (e.g. sim_time's `before`).
+struct ParamValue {
+    bool given = true;
+    Sampled number;      // quantity, integer, boolean (0/1)
+    int32_t choice = -1; // choice: index into the catalog's choices
+    VehicleRef vehicle;  // vehicle
+    friend bool operator==(const ParamValue&, const ParamValue&) = default;
+};
+
+enum class NodeKind {
+    fallback,
+    sequence,
+    reactive_sequence,
+    parallel,
+    condition,
+    maneuver,
+    not_,
+    once,
+};
+
+// One node of an expanded tree. Subtree references are gone: their roots are inlined, and
+// `path` records where a node came from ("cut_in/fallback[0]/std.drive/keep").
+struct Node {
+    NodeKind kind = NodeKind::sequence;
+    std::vector<int32_t> children;  // indices into TreeInstance::nodes
+    int32_t leaf = -1;              // maneuver: catalog::ManeuverKind; condition: ConditionKind
+    std::vector<ParamValue> params; // leaves: one per catalog parameter, in catalog order
+    int32_t success_threshold = 0;  // parallel: children that must succeed
+    std::string name;               // label, or the leaf's catalog name
+    std::string path;
+    int32_t tree = -1;              // index into Program::trees of the declaring tree
+    SourceLoc loc;
+};
+
+struct TreeInstance {
+    std::vector<Node> nodes;  // nodes[0] is the root
+};
+
+// A tree as declared (for tooling: reuse, diff); the runtime uses the instances.
+struct TreeDecl {
+    std::string name;  // qualified: "std.drive", "cut_in"
+    std::vector<std::string> params;
+    int32_t node_count = 0;  // nodes in the declaration itself (subtree calls count as one)
+    SourceLoc loc;
+};
+
+enum class RoadKind { road, junction, lanelet2 };
+
+struct Segment {
+    bool arc = false;
+    double length = 0.0;
+    double radius = 0.0;  // signed: > 0 turns left
+};
+
+struct Road {
+    RoadKind kind = RoadKind::road;
+    std::string name;
+    // road
+    int32_t lanes_forward = 1;
+    int32_t lanes_backward = 0;
+    double lane_width = 3.5;
+    double speed_limit = 13.89;
+    double origin_x = 0.0, origin_y = 0.0, heading = 0.0;
+    std::vector<Segment> segments;
+    // junction (lanes_forward = lanes per direction)
+    double arm_length = 100.0;
+    std::string control;  // stop_signs | traffic_lights | none
+    // lanelet2
+    std::string map_file;  // path as resolved at compile time
+    double origin_lat = 0.0, origin_lon = 0.0, origin_alt = 0.0;
+    bool has_origin = false;
+    SourceLoc loc;
+};
+
+enum class VehicleKind { sdv, trajectory, static_object, external };
+
+struct Position {
+    bool xy = false;
+    std::string lane;  // lane name in the road model ("highway.1", lanelet id)
+    double s = 0.0;
+    double offset = 0.0;
+    double x = 0.0, y = 0.0, heading = 0.0;
+    bool has_heading = false;
+    SourceLoc loc;
+};
+
+struct Waypoint {
+    double time = 0.0;
+    Position position;
+    double speed = -1.0;  // < 0: derived from the neighbouring waypoints
+};
+
+struct Vehicle {
+    std::string name;
+    VehicleKind kind = VehicleKind::sdv;
+    bool is_ego = false;
+    double length = 4.5;
+    double width = 1.8;
+    double speed = 0.0;
+    Position start;
+    std::optional<Position> goal;
+    std::vector<std::string> route;  // lane names
+    int32_t tree = -1;               // index into Program::instances; sdv only
+    std::vector<Waypoint> trajectory;
+    SourceLoc loc;
+};
+
+struct LightPhase {
+    std::string state;  // red | yellow | green
+    double duration = 0.0;
+};
+
+struct LightProgram {
+    std::string name;  // the light's name in the road model
+    std::vector<LightPhase> phases;
+    double offset = 0.0;
+    SourceLoc loc;
+};
+
+// Expectations, as a flat expression tree (index 0..n; `lhs`/`rhs` index this vector).
+struct Expect {
+    enum class Kind { not_, and_, or_, call } kind = Kind::call;
+    int32_t lhs = -1, rhs = -1;
+    int32_t function = -1;          // catalog::ExpectKind
+    std::vector<int32_t> vehicles;  // indices into Scenario::vehicles
+    std::string cmp;                // "<", "<=", ">", ">=" or empty
+    double bound = 0.0;             // SI
+    std::string text;               // as written, for messages
+    SourceLoc loc;
+};
+
+struct Scenario {
+    std::string name;
+    int32_t road = -1;  // index into Program::roads
+    double timeout = 60.0;
+    uint64_t seed = 0;
+    double traffic_rate = 30.0;
+    double planning_rate = 3.0;
+    double planning_latency = -1.0;  // < 0: 1 / planning_rate
+    double sensor_range = 100.0;
+    std::vector<Vehicle> vehicles;
+    std::vector<LightProgram> lights;
+    std::vector<Expect> expects;
+    std::vector<int32_t> expect_roots;  // one per `expect` statement
+    SourceLoc loc;
+};
+
+struct Program {
+    std::string compiler_version;
+    std::vector<std::string> files;  // source files, as given / "std/drive.sdv"
+    std::vector<TreeDecl> trees;
+    std::vector<TreeInstance> instances;
+    std::vector<Road> roads;
+    std::vector<Scenario> scenarios;
+};
+
+}  // namespace sdv::ir

@@ -1,0 +1,41 @@
+// The compiler's public entry point: a .sdv file (and everything it imports) in, the checked
+// IR plus diagnostics out. The IR exists only when there were no errors.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "compiler/ast/ast.h"
+#include "compiler/diag/diagnostic_engine.h"
+#include "compiler/diag/source_manager.h"
+#include "compiler/ir/ir.h"
+
+namespace sdv::compiler {
+
+inline constexpr const char* kCompilerVersion = "sdv 0.1.0";
+
+struct CompileOptions {
+    // Extra directories searched for relative imports after the importing file's directory.
+    std::vector<std::string> import_dirs;
+};
+
+struct Compilation {
+    // Parsed files, the main file first; an entry is null when that file failed to parse.
+    std::vector<std::unique_ptr<ast::File>> files;
+    std::vector<diag::FileId> file_ids;
+    std::optional<ir::Program> program;
+};
+
+// Reads, parses and checks `path` and its imports. Never throws.
+Compilation compile_file(const std::string& path, diag::SourceManager& sm,
+                         diag::DiagnosticEngine& diags, const CompileOptions& options = {});
+
+// The same for text already in memory (`display_path` names it in messages; relative imports
+// resolve against its directory).
+Compilation compile_source(const std::string& display_path, std::string text,
+                           diag::SourceManager& sm, diag::DiagnosticEngine& diags,
+                           const CompileOptions& options = {});
+
+}  // namespace sdv::compiler

@@ -1,0 +1,28 @@
+// The front door of the compiler: text in, AST plus diagnostics out. This is the only part of
+// the project that touches ANTLR (parser.cpp); everything after it works on the owned AST.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "compiler/ast/ast.h"
+#include "compiler/diag/diagnostic_engine.h"
+#include "compiler/diag/source_manager.h"
+
+namespace sdv::compiler::syntax {
+
+// Deepest nesting of braces, brackets, parentheses and decorators the parser accepts. Deeper
+// input is rejected with E0004 before parsing, so pathological files cannot exhaust the stack.
+inline constexpr int kMaxNesting = 128;
+// Syntax errors reported per file before the parser gives up on it.
+inline constexpr int kMaxSyntaxErrors = 20;
+
+// Parses one file. Returns the AST, or nullptr when the file has lexical or syntax errors
+// (they are in `diags`). Never throws.
+std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& sm,
+                                 diag::DiagnosticEngine& diags);
+
+// One line per token, `line:col KIND 'text'`, for `sdv compile --emit tokens`.
+std::string dump_tokens(diag::FileId file, const diag::SourceManager& sm);
+
+}  // namespace sdv::compiler::syntax

@@ -1,0 +1,223 @@
+// The .sdv language (docs/language.md is its reference). Keywords are contextual: every keyword
+// may also be used as a name (see `ident`), so the language can grow without breaking files.
+// Units after numbers are recognised by a predicate on the unit table, so an identifier after
+// a number is a unit only when it is one ("40 m speed 13.9 m/s").
+grammar Sdv;
+
+@parser::header {
+#include "compiler/syntax/unit_words.h"
+}
+
+file : item* EOF ;
+
+item
+    : importDecl
+    | roadDecl
+    | junctionDecl
+    | mapDecl
+    | treeDecl
+    | scenarioDecl
+    ;
+
+importDecl : IMPORT STRING (AS ident)? ;
+
+// ---------------------------------------------------------------- roads and maps
+roadDecl : ROAD ident '{' roadStmt* '}' ;
+roadStmt
+    : LANES laneCount (',' laneCount)*                    # roadLanes
+    | LANE_WIDTH value                                    # roadLaneWidth
+    | SPEED_LIMIT value                                   # roadSpeedLimit
+    | STRAIGHT value                                      # roadStraight
+    | ARC value RADIUS value (LEFT | RIGHT)?              # roadArc
+    | ORIGIN '(' value ',' value ')' (HEADING value)?     # roadOrigin
+    ;
+laneCount : INT ident ;
+
+junctionDecl : JUNCTION ident '{' junctionStmt* '}' ;
+junctionStmt
+    : LANES INT                                           # junctionLanes
+    | LANE_WIDTH value                                    # junctionLaneWidth
+    | SPEED_LIMIT value                                   # junctionSpeedLimit
+    | ARM_LENGTH value                                    # junctionArmLength
+    | CONTROL ident                                       # junctionControl
+    ;
+
+mapDecl : MAP ident '{' mapStmt* '}' ;
+mapStmt
+    : FILE STRING                                         # mapFile
+    | ORIGIN '(' value ',' value (',' value)? ')'         # mapOrigin
+    ;
+
+// ---------------------------------------------------------------- trees
+treeDecl : TREE ident '(' (paramDecl (',' paramDecl)*)? ')' '{' node* '}' ;
+paramDecl : ident ':' ident ('=' value)? ;
+
+node : (ident ':')? nodeBody ;
+nodeBody
+    : compositeKind ('(' argList? ')')? '{' node* '}'     # compositeNode
+    | CONDITION ident '(' argList? ')'                    # conditionNode
+    | MANEUVER ident '(' argList? ')'                     # maneuverNode
+    | SUBTREE qualName '(' argList? ')'                   # subtreeNode
+    | decorator node                                      # decoratorNode
+    ;
+compositeKind : FALLBACK | SEQUENCE | REACTIVE_SEQUENCE | PARALLEL ;
+decorator : NOT | ONCE ;
+
+argList : arg (',' arg)* ','? ;
+arg : qualName '=' value ;
+
+// ---------------------------------------------------------------- values
+value
+    : primary spread? samples?                            # singleValue
+    | primary '..' primary samples?                       # intervalValue
+    | '[' (value (',' value)*)? ']'                       # listValue
+    ;
+spread : PLUSMINUS primary ;
+samples : SAMPLES INT method? ;
+method : ident ('(' value ')')? ;
+primary
+    : quantity
+    | qualName
+    | STRING
+    ;
+quantity : sign=('-' | '+')? number unit? ;
+number : INT | FLOAT ;
+unit
+    : PERCENT
+    | unitAtom (('/' unitAtom) | SUP2 | SUP3 | ('^' INT))*
+    ;
+unitAtom : {sdv::compiler::syntax::is_unit_word(_input->LT(1)->getText())}? ident ;
+
+qualName : ident ('.' ident)* ;
+
+// ---------------------------------------------------------------- scenarios
+scenarioDecl : SCENARIO ident '{' scenarioStmt* '}' ;
+scenarioStmt
+    : ROAD qualName                                       # scenarioRoad
+    | TIMEOUT value                                       # scenarioTimeout
+    | SEED INT                                            # scenarioSeed
+    | RATE ident value                                    # scenarioRate
+    | (EGO | VEHICLE) ident ':' ident '{' vehicleStmt* '}'   # scenarioVehicle
+    | OBJECT ident '{' vehicleStmt* '}'                   # scenarioObject
+    | LIGHT qualName '{' lightStmt* '}'                   # scenarioLight
+    | EXPECT expr                                         # scenarioExpect
+    ;
+
+vehicleStmt
+    : START position                                      # vehStart
+    | SPEED value                                         # vehSpeed
+    | LENGTH value                                        # vehLength
+    | WIDTH value                                         # vehWidth
+    | GOAL position                                       # vehGoal
+    | ROUTE laneRef (',' laneRef)*                        # vehRoute
+    | TREE qualName '(' argList? ')'                      # vehTree
+    | TRAJECTORY '{' waypoint* '}'                        # vehTrajectory
+    ;
+position
+    : laneRef AT value (OFFSET value)?                    # lanePosition
+    | AT '(' value ',' value ')' (HEADING value)?         # xyPosition
+    ;
+laneRef : LANE (laneIndex | qualName | STRING) ;
+laneIndex : sign='-'? INT ;
+waypoint : value ':' position (SPEED value)? ;
+
+lightStmt
+    : OFFSET value                                        # lightOffset
+    | ident value                                         # lightPhase
+    ;
+
+expr
+    : NOT expr                                            # notExpr
+    | expr AND expr                                       # andExpr
+    | expr OR expr                                        # orExpr
+    | '(' expr ')'                                        # parenExpr
+    | call (cmp=('<' | '<=' | '>' | '>=') value)?         # callExpr
+    ;
+call : ident '(' (ident (',' ident)*)? ')' ;
+
+// Every keyword is also a valid name.
+ident
+    : ID | IMPORT | AS | ROAD | LANES | LANE_WIDTH | SPEED_LIMIT | STRAIGHT | ARC | RADIUS
+    | ORIGIN | HEADING | JUNCTION | ARM_LENGTH | CONTROL | MAP | FILE | TREE | CONDITION
+    | MANEUVER | SUBTREE | FALLBACK | SEQUENCE | REACTIVE_SEQUENCE | PARALLEL | NOT | ONCE
+    | SAMPLES | SCENARIO | TIMEOUT | SEED | RATE | EGO | VEHICLE | OBJECT | LIGHT | EXPECT
+    | START | SPEED | LENGTH | WIDTH | GOAL | ROUTE | TRAJECTORY | AT | OFFSET | LANE | AND | OR
+    | LEFT | RIGHT
+    ;
+
+// ---------------------------------------------------------------- lexer
+IMPORT : 'import' ;
+AS : 'as' ;
+ROAD : 'road' ;
+LANES : 'lanes' ;
+LANE_WIDTH : 'lane_width' ;
+SPEED_LIMIT : 'speed_limit' ;
+STRAIGHT : 'straight' ;
+ARC : 'arc' ;
+RADIUS : 'radius' ;
+ORIGIN : 'origin' ;
+HEADING : 'heading' ;
+JUNCTION : 'junction' ;
+ARM_LENGTH : 'arm_length' ;
+CONTROL : 'control' ;
+MAP : 'map' ;
+FILE : 'file' ;
+TREE : 'tree' ;
+CONDITION : 'condition' ;
+MANEUVER : 'maneuver' ;
+SUBTREE : 'subtree' ;
+FALLBACK : 'fallback' ;
+SEQUENCE : 'sequence' ;
+REACTIVE_SEQUENCE : 'reactive_sequence' ;
+PARALLEL : 'parallel' ;
+NOT : 'not' ;
+ONCE : 'once' ;
+SAMPLES : 'samples' ;
+SCENARIO : 'scenario' ;
+TIMEOUT : 'timeout' ;
+SEED : 'seed' ;
+RATE : 'rate' ;
+EGO : 'ego' ;
+VEHICLE : 'vehicle' ;
+OBJECT : 'object' ;
+LIGHT : 'light' ;
+EXPECT : 'expect' ;
+START : 'start' ;
+SPEED : 'speed' ;
+LENGTH : 'length' ;
+WIDTH : 'width' ;
+GOAL : 'goal' ;
+ROUTE : 'route' ;
+TRAJECTORY : 'trajectory' ;
+AT : 'at' ;
+OFFSET : 'offset' ;
+LANE : 'lane' ;
+AND : 'and' ;
+OR : 'or' ;
+LEFT : 'left' ;
+RIGHT : 'right' ;
+
+PLUSMINUS : '±' | '+-' ;
+SUP2 : '²' ;
+SUP3 : '³' ;
+PERCENT : '%' ;
+DOTDOT : '..' ;
+LE : '<=' ;
+GE : '>=' ;
+LT : '<' ;
+GT : '>' ;
+
+FLOAT : DIGITS '.' DIGITS EXPONENT? | DIGITS EXPONENT ;
+INT : DIGITS ;
+fragment DIGITS : [0-9] ('_'? [0-9])* ;
+fragment EXPONENT : [eE] [+-]? [0-9]+ ;
+
+ID : [a-zA-Z_] [a-zA-Z_0-9]* ;
+STRING : '"' (~["\\\r\n] | '\\' ~[\r\n])* '"' ;
+UNTERMINATED_STRING : '"' (~["\\\r\n] | '\\' ~[\r\n])* ;
+
+COMMENT : '#' ~[\r\n]* -> channel(HIDDEN) ;
+WS : [ \t\r\n\u000C]+ -> channel(HIDDEN) ;
+
+// Anything else becomes one token the builder reports as "unexpected character".
+ERROR_CHAR : . ;

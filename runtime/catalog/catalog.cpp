@@ -1,0 +1,649 @@
+// The catalog's contents. Defaults and candidate counts follow SPEC §3.6 (taken from the
+// reference implementation); allowed ranges are physical plausibility limits that the checker
+// enforces so that absurd values (negative durations, zero jerk limits, 1e308) never reach the
+// runtime.
+#include "runtime/catalog/catalog.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace sdv::catalog {
+namespace {
+
+// Small builders keep the tables below readable.
+ParamDef qty(std::string name, Dim dim, std::optional<DefaultValue> def, double lo, double hi,
+             std::string doc, bool lo_exclusive = false) {
+    ParamDef p;
+    p.name = std::move(name);
+    p.type = ParamType::quantity;
+    p.dim = dim;
+    p.def = def;
+    p.min = lo;
+    p.max = hi;
+    p.min_exclusive = lo_exclusive;
+    p.doc = std::move(doc);
+    return p;
+}
+
+ParamDef sampled(std::string name, Dim dim, double value, double pct, int n, double lo, double hi,
+                 std::string doc, bool lo_exclusive = false) {
+    ParamDef p = qty(std::move(name), dim, DefaultValue{value, pct, n}, lo, hi, std::move(doc),
+                     lo_exclusive);
+    p.sampleable = true;
+    return p;
+}
+
+ParamDef opt_qty(std::string name, Dim dim, double lo, double hi, std::string doc) {
+    ParamDef p = qty(std::move(name), dim, std::nullopt, lo, hi, std::move(doc));
+    p.optional = true;
+    return p;
+}
+
+ParamDef choice(std::string name, std::vector<std::string> choices, std::optional<int> def,
+                std::string doc) {
+    ParamDef p;
+    p.name = std::move(name);
+    p.type = ParamType::choice;
+    p.choices = std::move(choices);
+    if (def) p.def = DefaultValue{static_cast<double>(*def), 0, 1};
+    p.doc = std::move(doc);
+    return p;
+}
+
+ParamDef vehicle(std::string name, bool required, std::string doc) {
+    ParamDef p;
+    p.name = std::move(name);
+    p.type = ParamType::vehicle;
+    p.optional = !required;
+    p.doc = std::move(doc);
+    return p;
+}
+
+ParamDef boolean(std::string name, bool def, std::string doc) {
+    ParamDef p;
+    p.name = std::move(name);
+    p.type = ParamType::boolean;
+    p.def = DefaultValue{def ? 1.0 : 0.0, 0, 1};
+    p.doc = std::move(doc);
+    return p;
+}
+
+ParamDef integer(std::string name, int def, double lo, double hi, std::string doc) {
+    ParamDef p;
+    p.name = std::move(name);
+    p.type = ParamType::integer;
+    p.def = DefaultValue{static_cast<double>(def), 0, 1};
+    p.min = lo;
+    p.max = hi;
+    p.doc = std::move(doc);
+    return p;
+}
+
+ParamDef in_group(ParamDef p, std::string group) {
+    p.group = std::move(group);
+    return p;
+}
+
+constexpr double kMaxSpeed = 100.0;     // m/s: 360 km/h, beyond any road vehicle
+constexpr double kMaxDuration = 60.0;   // s: a single maneuver plan
+constexpr double kMaxDistance = 10000;  // m
+constexpr double kMaxAcc = 50.0;        // m/s²
+constexpr double kMaxJerk = 100.0;      // m/s³
+
+// The parameters every maneuver shares (SPEC §3.6 "Common parameters").
+std::vector<ParamDef> common_params(double max_long_acc) {
+    std::vector<ParamDef> ps = {
+        in_group(qty("max_long_jerk", Dim::jerk, DefaultValue{10}, 0, kMaxJerk,
+                     "longitudinal jerk limit of a feasible trajectory", true),
+                 "feasibility"),
+        in_group(qty("max_lat_jerk", Dim::jerk, DefaultValue{10}, 0, kMaxJerk,
+                     "lateral jerk limit of a feasible trajectory", true),
+                 "feasibility"),
+        in_group(qty("max_long_acc", Dim::accel, DefaultValue{max_long_acc}, 0, kMaxAcc,
+                     "longitudinal acceleration limit (magnitude)", true),
+                 "feasibility"),
+        in_group(qty("max_lat_acc", Dim::accel, DefaultValue{4.9}, 0, kMaxAcc,
+                     "lateral acceleration limit (magnitude)", true),
+                 "feasibility"),
+        in_group(boolean("collision", true, "reject candidates that collide with a perceived "
+                                            "vehicle or obstacle"),
+                 "feasibility"),
+        in_group(boolean("off_lane", true, "reject candidates that leave the current lane"),
+                 "feasibility"),
+        in_group(boolean("direction", true, "reject candidates whose s decreases"),
+                 "feasibility"),
+    };
+    const char* weights[][2] = {
+        {"w_time", "weight of the deviation from the target duration"},
+        {"w_efficiency", "weight of the mean-speed deviation from the target speed"},
+        {"w_lane_offset", "weight of the offset from the lane centre"},
+        {"w_long_jerk", "weight of the total longitudinal jerk"},
+        {"w_lat_jerk", "weight of the total lateral jerk"},
+        {"w_long_acc", "weight of the total longitudinal acceleration"},
+        {"w_lat_acc", "weight of the total lateral acceleration"},
+    };
+    for (auto& w : weights) {
+        ps.push_back(in_group(qty(w[0], Dim::none, DefaultValue{1}, 0, 1e6, w[1]), "cost"));
+    }
+    ps.push_back(in_group(
+        qty("w_proximity", Dim::none, DefaultValue{10}, 0, 1e6, "weight of the proximity to "
+                                                                 "other vehicles and obstacles"),
+        "cost"));
+    ps.push_back(in_group(qty("expected_offset", Dim::length, DefaultValue{0.5}, 0, 100,
+                              "normaliser of the lane-offset cost", true),
+                          "cost"));
+    ps.push_back(in_group(qty("expected_acc", Dim::accel, DefaultValue{1}, 0, kMaxAcc,
+                              "normaliser of the acceleration costs", true),
+                          "cost"));
+    ps.push_back(in_group(qty("expected_jerk", Dim::jerk, DefaultValue{2}, 0, kMaxJerk,
+                              "normaliser of the jerk costs", true),
+                          "cost"));
+    ps.push_back(in_group(sampled("lat_offset", Dim::length, 0, 0, 1, -10, 10,
+                                  "lateral target: offset from the target lane's centre (left "
+                                  "positive)"),
+                          "lateral"));
+    ps.push_back(in_group(integer("eval_points", 10, 2, 1000,
+                                  "points per trajectory at which feasibility is checked"),
+                          "lateral"));
+    return ps;
+}
+
+ManeuverDef make_maneuver(std::string name, ManeuverKind kind, std::string doc, std::string status,
+                          std::vector<ParamDef> specific, double max_long_acc = 12) {
+    ManeuverDef m{std::move(name), kind, std::move(doc), std::move(status), std::move(specific), 0};
+    for (auto& p : common_params(max_long_acc)) m.params.push_back(std::move(p));
+    int n = 1;
+    for (const auto& p : m.params) {
+        if (p.sampleable && p.def) n *= p.def->samples;
+    }
+    m.default_candidates = n;
+    return m;
+}
+
+std::vector<ManeuverDef> build_maneuvers() {
+    std::vector<ManeuverDef> ms;
+    {
+        auto speed = sampled("speed", Dim::speed, 14, 10, 3, 0, kMaxSpeed, "target speed");
+        ms.push_back(make_maneuver(
+            "keep_velocity", ManeuverKind::keep_velocity,
+            "drive in the lane at a target speed (quartic in s)", "SUCCESS",
+            {speed,
+             sampled("duration", Dim::time, 3, 20, 6, 0, kMaxDuration,
+                     "time to reach the target speed", true),
+             qty("max_speed_change", Dim::speed, DefaultValue{8}, 0, kMaxSpeed,
+                 "largest speed change planned in one cycle", true)}));
+    }
+    ms.push_back(make_maneuver(
+        "follow", ManeuverKind::follow,
+        "follow a leader at a time gap; stop behind it when it is (nearly) stopped (quintic)",
+        "SUCCESS; FAILURE without a leader",
+        {vehicle("leader", false, "the vehicle to follow (default: nearest ahead in the lane)"),
+         sampled("duration", Dim::time, 4, 50, 10, 0, kMaxDuration, "time to settle behind the "
+                                                                     "leader", true),
+         qty("time_gap", Dim::time, DefaultValue{3}, 0, 60, "time headway kept to the leader"),
+         qty("stop_distance", Dim::length, DefaultValue{3}, 0, 100,
+             "bumper gap kept to a stopped leader")}));
+    ms.push_back(make_maneuver(
+        "lane_change", ManeuverKind::lane_change,
+        "change to the neighbour lane (or swerve inside the lane with lat_offset) keeping the "
+        "current speed (quartic)",
+        "RUNNING until the footprint is in the target lane, then SUCCESS",
+        {choice("lane", {"left", "right", "route", "current"}, 0,
+                "target lane: left, right, the lane the route needs, or current (swerve)"),
+         sampled("duration", Dim::time, 4.2, 10, 6, 0, kMaxDuration, "lane-change duration",
+                 true)}));
+    ms.push_back(make_maneuver(
+        "cut_in", ManeuverKind::cut_in,
+        "change lane into a gap relative to a target vehicle (quintic)",
+        "RUNNING until the footprint is in the target lane, then SUCCESS; FAILURE without target",
+        {vehicle("target", true, "the vehicle to cut in front of"),
+         choice("lane", {"left", "right", "target"}, 2,
+                "target lane: left, right, or the target vehicle's lane"),
+         sampled("duration", Dim::time, 4, 10, 6, 0, kMaxDuration, "cut-in duration", true),
+         sampled("delta_s", Dim::length, 10, 10, 5, -200, 200,
+                 "gap to the target at the end, beyond 2 own lengths (negative: behind it)"),
+         qty("delta_v", Dim::speed, DefaultValue{5}, -kMaxSpeed, kMaxSpeed,
+             "speed relative to the target at the end"),
+         qty("delta_a", Dim::accel, DefaultValue{0}, -kMaxAcc, kMaxAcc,
+             "acceleration relative to the target at the end")}));
+    {
+        auto m = make_maneuver(
+            "stop", ManeuverKind::stop,
+            "stop at the goal, the next stop line, a position, or now (quintic)", "SUCCESS",
+            {choice("at", {"goal", "stop_line", "position", "now"}, 3, "where to stop"),
+             opt_qty("position", Dim::length, 0, kMaxDistance,
+                     "s along the lane to stop at (with at = position)"),
+             qty("distance", Dim::length, DefaultValue{0}, 0, 100,
+                 "stop this far before the target"),
+             sampled("duration_factor", Dim::none, 1, 40, 6, 0, 10,
+                     "duration as a factor of 2·Δs/v", true)},
+            30);
+        ms.push_back(std::move(m));
+    }
+    {
+        auto m = make_maneuver(
+            "reverse", ManeuverKind::reverse, "drive backwards at a target speed (quartic)",
+            "SUCCESS",
+            {sampled("speed", Dim::speed, 5, 10, 6, 0, 30, "reverse speed (magnitude)"),
+             sampled("duration", Dim::time, 3, 20, 3, 0, kMaxDuration,
+                     "time to reach the speed", true)});
+        for (auto& p : m.params) {
+            if (p.name == "direction") p.def->value = 0.0;  // backwards is the point
+        }
+        ms.push_back(std::move(m));
+    }
+    return ms;
+}
+
+const std::vector<std::string> kLanes3 = {"left", "current", "right"};
+
+std::vector<ConditionDef> build_conditions() {
+    std::vector<ConditionDef> cs;
+    auto add = [&](std::string name, ConditionKind kind, std::string doc,
+                   std::vector<ParamDef> params, std::vector<std::string> one_of = {},
+                   std::vector<std::string> exclusive = {}) {
+        cs.push_back(ConditionDef{std::move(name), kind, std::move(doc), std::move(params),
+                                  std::move(one_of), std::move(exclusive)});
+    };
+    const auto self = [] {
+        return vehicle("vehicle", false, "the vehicle observed (default: self)");
+    };
+    add("sim_time", ConditionKind::sim_time,
+        "simulation time is after / before / inside a window",
+        {opt_qty("after", Dim::time, 0, 1e6, "true from this time on"),
+         opt_qty("before", Dim::time, 0, 1e6, "true until this time")},
+        {"after", "before"});
+    add("vehicle_state", ConditionKind::vehicle_state,
+        "a vehicle's s, d, speed or acceleration is within bounds",
+        {self(), opt_qty("s_min", Dim::length, -kMaxDistance, kMaxDistance, "lower bound of s"),
+         opt_qty("s_max", Dim::length, -kMaxDistance, kMaxDistance, "upper bound of s"),
+         opt_qty("d_min", Dim::length, -100, 100, "lower bound of d"),
+         opt_qty("d_max", Dim::length, -100, 100, "upper bound of d"),
+         opt_qty("speed_min", Dim::speed, -kMaxSpeed, kMaxSpeed, "lower bound of speed"),
+         opt_qty("speed_max", Dim::speed, -kMaxSpeed, kMaxSpeed, "upper bound of speed"),
+         opt_qty("acc_min", Dim::accel, -kMaxAcc, kMaxAcc, "lower bound of acceleration"),
+         opt_qty("acc_max", Dim::accel, -kMaxAcc, kMaxAcc, "upper bound of acceleration")},
+        {"s_min", "s_max", "d_min", "d_max", "speed_min", "speed_max", "acc_min", "acc_max"});
+    add("delta_state", ConditionKind::delta_state,
+        "another vehicle's state relative to self (other − self) is within bounds",
+        {vehicle("vehicle", true, "the other vehicle"),
+         opt_qty("ds_min", Dim::length, -kMaxDistance, kMaxDistance, "lower bound of Δs"),
+         opt_qty("ds_max", Dim::length, -kMaxDistance, kMaxDistance, "upper bound of Δs"),
+         opt_qty("dd_min", Dim::length, -100, 100, "lower bound of Δd"),
+         opt_qty("dd_max", Dim::length, -100, 100, "upper bound of Δd"),
+         opt_qty("dv_min", Dim::speed, -kMaxSpeed, kMaxSpeed, "lower bound of Δspeed"),
+         opt_qty("dv_max", Dim::speed, -kMaxSpeed, kMaxSpeed, "upper bound of Δspeed")},
+        {"ds_min", "ds_max", "dd_min", "dd_max", "dv_min", "dv_max"});
+    {
+        auto min = opt_qty("min", Dim::length, -kMaxDistance, kMaxDistance,
+                           "true when the bumper gap is at least this");
+        min.sampleable = true;
+        add("gap", ConditionKind::gap,
+            "bumper-to-bumper longitudinal gap to a vehicle, or to the nearest vehicle in a lane",
+            {vehicle("vehicle", false, "the other vehicle"),
+             choice("lane", kLanes3, std::nullopt, "or: the nearest vehicle in this lane"), min,
+             opt_qty("max", Dim::length, -kMaxDistance, kMaxDistance,
+                     "true when the bumper gap is at most this"),
+             opt_qty("time_min", Dim::time, 0, 1e4, "true when the time gap is at least this"),
+             opt_qty("time_max", Dim::time, 0, 1e4, "true when the time gap is at most this")},
+            {"min", "max", "time_min", "time_max"}, {"vehicle", "lane"});
+        cs.back().params[1].optional = true;
+    }
+    add("ttc", ConditionKind::ttc, "time to collision with a vehicle is below a threshold",
+        {vehicle("vehicle", false, "the other vehicle (default: the leader in the lane)"),
+         qty("max", Dim::time, std::nullopt, 0, 1e4, "threshold", true)});
+    add("distance", ConditionKind::distance,
+        "Euclidean distance between the vehicles' centres is within bounds",
+        {vehicle("vehicle", true, "the other vehicle"),
+         opt_qty("min", Dim::length, 0, kMaxDistance, "lower bound"),
+         opt_qty("max", Dim::length, 0, kMaxDistance, "upper bound")},
+        {"min", "max"});
+    add("lane_occupied", ConditionKind::lane_occupied,
+        "a vehicle is ahead in a lane within a distance or time gap",
+        {choice("lane", kLanes3, 1, "which lane"),
+         qty("distance", Dim::length, DefaultValue{30}, 0, kMaxDistance, "look-ahead distance"),
+         opt_qty("time_gap", Dim::time, 0, 1e4, "or: look-ahead time at own speed")});
+    add("can_lane_change", ConditionKind::can_lane_change,
+        "the target lane exists and has no vehicle within ±gap of own position",
+        {choice("lane", {"left", "right"}, std::nullopt, "target lane"),
+         qty("gap", Dim::length, DefaultValue{10}, 0, kMaxDistance, "free space needed")});
+    add("vehicle_moving", ConditionKind::vehicle_moving, "a vehicle moves faster than a threshold",
+        {self(), qty("min_speed", Dim::speed, DefaultValue{0.5}, 0, kMaxSpeed, "threshold")});
+    add("vehicle_stopped", ConditionKind::vehicle_stopped,
+        "a vehicle moves slower than a threshold",
+        {self(), qty("max_speed", Dim::speed, DefaultValue{0.1}, 0, kMaxSpeed, "threshold")});
+    add("vehicle_parked", ConditionKind::vehicle_parked,
+        "a vehicle has been stopped for at least a duration",
+        {self(), qty("duration", Dim::time, DefaultValue{2}, 0, 1e4, "time stopped")});
+    add("reached_goal", ConditionKind::reached_goal,
+        "own route is complete and the goal is within a distance",
+        {qty("distance", Dim::length, DefaultValue{4}, 0, 1000, "distance along the lane")});
+    add("at_lane_change_segment", ConditionKind::at_lane_change_segment,
+        "the route needs a lane change from the current lane",
+        {choice("lane", {"left", "right", "any"}, 2, "direction of the needed change")});
+    add("approaching_stop", ConditionKind::approaching_stop,
+        "a stop line or intersection entry is ahead within a distance",
+        {qty("distance", Dim::length, DefaultValue{30}, 0, kMaxDistance, "look-ahead distance"),
+         choice("kind", {"stop_line", "intersection", "any"}, 2, "what to look for")});
+    add("traffic_light", ConditionKind::traffic_light,
+        "the light controlling own lane ahead shows a state",
+        {choice("state", {"red", "yellow", "green"}, std::nullopt, "light state"),
+         qty("distance", Dim::length, DefaultValue{100}, 0, kMaxDistance,
+             "ignore lights farther than this")});
+    add("intersection_type", ConditionKind::intersection_type,
+        "the next intersection on the route is of a type",
+        {choice("type", {"all_way_stop", "traffic_light", "yield", "none"}, std::nullopt,
+                "intersection type")});
+    add("yield_role", ConditionKind::yield_role,
+        "own lane's role at the next right-of-way element",
+        {choice("role", {"yield", "priority"}, std::nullopt, "role")});
+    add("intersection_occupied", ConditionKind::intersection_occupied,
+        "another vehicle is inside the next intersection (or on a conflicting lane within "
+        "distance)",
+        {qty("distance", Dim::length, DefaultValue{0}, 0, 1000, "margin before the junction")});
+    add("all_way_stop_turn", ConditionKind::all_way_stop_turn,
+        "at an all-way stop, it is own turn (first come, first served; ties by vehicle order)",
+        {});
+    return cs;
+}
+
+std::vector<ExpectDef> build_expectations() {
+    return {
+        {"collision", ExpectKind::collision, 0, 2, Dim::none, true,
+         "a collision happened (between the given vehicles, or involving one, or any)"},
+        {"no_collision", ExpectKind::no_collision, 0, 0, Dim::none, true, "no collision at all"},
+        {"reached_goal", ExpectKind::reached_goal, 1, 1, Dim::none, true,
+         "the vehicle reached its goal"},
+        {"min_gap", ExpectKind::min_gap, 2, 2, Dim::length, false,
+         "smallest bumper gap between two vehicles over the run"},
+        {"min_ttc", ExpectKind::min_ttc, 2, 2, Dim::time, false,
+         "smallest time to collision between two vehicles"},
+        {"min_headway", ExpectKind::min_headway, 2, 2, Dim::time, false,
+         "smallest time headway between two vehicles"},
+        {"max_jerk", ExpectKind::max_jerk, 1, 1, Dim::jerk, false, "largest |jerk| of a vehicle"},
+        {"max_acc", ExpectKind::max_acc, 1, 1, Dim::accel, false,
+         "largest |acceleration| of a vehicle"},
+        {"max_speed", ExpectKind::max_speed, 1, 1, Dim::speed, false, "largest speed"},
+        {"fallback_used", ExpectKind::fallback_used, 1, 1, Dim::none, true,
+         "the vehicle needed the emergency fallback"},
+        {"timeout", ExpectKind::timeout, 0, 0, Dim::none, true, "the run ended at its timeout"},
+    };
+}
+
+template <typename T>
+const T* find_by_name(std::span<const T> items, std::string_view name) {
+    for (const T& t : items) {
+        if (t.name == name) return &t;
+    }
+    return nullptr;
+}
+
+std::string fmt_number(double v) {
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+
+}  // namespace
+
+std::string_view to_string(ParamType type) {
+    switch (type) {
+        case ParamType::quantity: return "quantity";
+        case ParamType::integer: return "integer";
+        case ParamType::boolean: return "bool";
+        case ParamType::choice: return "choice";
+        case ParamType::vehicle: return "vehicle";
+    }
+    return "?";
+}
+
+const ParamDef* ManeuverDef::find_param(std::string_view n) const {
+    return find_by_name<ParamDef>(params, n);
+}
+const ParamDef* ConditionDef::find_param(std::string_view n) const {
+    return find_by_name<ParamDef>(params, n);
+}
+
+std::span<const ManeuverDef> maneuvers() {
+    static const std::vector<ManeuverDef> kManeuvers = build_maneuvers();
+    return kManeuvers;
+}
+std::span<const ConditionDef> conditions() {
+    static const std::vector<ConditionDef> kConditions = build_conditions();
+    return kConditions;
+}
+std::span<const ExpectDef> expectations() {
+    static const std::vector<ExpectDef> kExpectations = build_expectations();
+    return kExpectations;
+}
+
+const ManeuverDef* find_maneuver(std::string_view name) { return find_by_name(maneuvers(), name); }
+const ConditionDef* find_condition(std::string_view name) {
+    return find_by_name(conditions(), name);
+}
+const ExpectDef* find_expectation(std::string_view name) {
+    return find_by_name(expectations(), name);
+}
+const ManeuverDef& maneuver(ManeuverKind kind) { return maneuvers()[static_cast<size_t>(kind)]; }
+const ConditionDef& condition(ConditionKind kind) {
+    return conditions()[static_cast<size_t>(kind)];
+}
+
+std::span<const std::string> vehicle_zones() {
+    static const std::vector<std::string> kZones = {
+        "self",  "ego",       "front", "front_left", "left",       "back_left",
+        "back",  "back_right", "right", "front_right"};
+    return kZones;
+}
+
+std::string format_default(const ParamDef& p) {
+    if (!p.def) return p.optional ? "(optional)" : "(required)";
+    const DefaultValue& d = *p.def;
+    switch (p.type) {
+        case ParamType::boolean: return d.value != 0 ? "true" : "false";
+        case ParamType::integer: return fmt_number(d.value);
+        case ParamType::choice: return p.choices.at(static_cast<size_t>(d.value));
+        case ParamType::vehicle: return "";
+        case ParamType::quantity: break;
+    }
+    std::string s = fmt_number(d.value);
+    if (auto u = si_unit(p.dim); !u.empty()) s += " " + std::string(u);
+    if (d.spread_pct > 0) s += " ±" + fmt_number(d.spread_pct) + "%";
+    if (d.samples > 1) s += " samples " + std::to_string(d.samples);
+    return s;
+}
+
+namespace {
+
+std::string type_label(const ParamDef& p) {
+    switch (p.type) {
+        case ParamType::quantity:
+            return p.dim == Dim::none ? "number" : std::string(to_string(p.dim));
+        case ParamType::choice: {
+            std::string s;
+            for (size_t i = 0; i < p.choices.size(); ++i) s += (i ? "|" : "") + p.choices[i];
+            return s;
+        }
+        default: return std::string(to_string(p.type));
+    }
+}
+
+std::string range_label(const ParamDef& p) {
+    if (p.type != ParamType::quantity && p.type != ParamType::integer) return "";
+    if (std::isinf(p.min) && std::isinf(p.max)) return "";
+    std::string unit(si_unit(p.dim));
+    std::string s = (p.min_exclusive ? "(" : "[") + fmt_number(p.min) + ", " +
+                    fmt_number(p.max) + "]";
+    if (!unit.empty()) s += " " + unit;
+    return s;
+}
+
+nlohmann::ordered_json param_json(const ParamDef& p) {
+    nlohmann::ordered_json j;
+    j["name"] = p.name;
+    j["type"] = to_string(p.type);
+    if (p.type == ParamType::quantity) {
+        j["dimension"] = to_string(p.dim);
+        j["unit"] = si_unit(p.dim);
+    }
+    if (!p.choices.empty()) j["choices"] = p.choices;
+    j["required"] = p.required();
+    if (p.def) {
+        if (p.type == ParamType::choice) {
+            j["default"] = p.choices.at(static_cast<size_t>(p.def->value));
+        } else if (p.type == ParamType::boolean) {
+            j["default"] = p.def->value != 0;
+        } else {
+            j["default"] = p.def->value;
+            if (p.def->spread_pct > 0) j["spread_pct"] = p.def->spread_pct;
+            if (p.def->samples > 1) j["samples"] = p.def->samples;
+        }
+    }
+    if (!std::isinf(p.min)) j["min"] = p.min;
+    if (!std::isinf(p.max)) j["max"] = p.max;
+    if (p.min_exclusive) j["min_exclusive"] = true;
+    j["sampleable"] = p.sampleable;
+    if (!p.group.empty()) j["group"] = p.group;
+    j["doc"] = p.doc;
+    return j;
+}
+
+}  // namespace
+
+nlohmann::ordered_json to_json() {
+    nlohmann::ordered_json j;
+    j["maneuvers"] = nlohmann::ordered_json::array();
+    for (const auto& m : maneuvers()) {
+        nlohmann::ordered_json mj;
+        mj["name"] = m.name;
+        mj["doc"] = m.doc;
+        mj["returns"] = m.status;
+        mj["default_candidates"] = m.default_candidates;
+        mj["params"] = nlohmann::ordered_json::array();
+        for (const auto& p : m.params) mj["params"].push_back(param_json(p));
+        j["maneuvers"].push_back(mj);
+    }
+    j["conditions"] = nlohmann::ordered_json::array();
+    for (const auto& c : conditions()) {
+        nlohmann::ordered_json cj;
+        cj["name"] = c.name;
+        cj["doc"] = c.doc;
+        cj["params"] = nlohmann::ordered_json::array();
+        for (const auto& p : c.params) cj["params"].push_back(param_json(p));
+        if (!c.at_least_one_of.empty()) cj["at_least_one_of"] = c.at_least_one_of;
+        if (!c.exclusive.empty()) cj["exclusive"] = c.exclusive;
+        j["conditions"].push_back(cj);
+    }
+    j["expectations"] = nlohmann::ordered_json::array();
+    for (const auto& e : expectations()) {
+        nlohmann::ordered_json ej;
+        ej["name"] = e.name;
+        ej["vehicles"] = {e.min_vehicles, e.max_vehicles};
+        ej["result"] = e.boolean ? "bool" : std::string(to_string(e.result));
+        ej["doc"] = e.doc;
+        j["expectations"].push_back(ej);
+    }
+    j["units"] = nlohmann::ordered_json::array();
+    for (const auto& u : all_units()) {
+        j["units"].push_back({{"unit", u.spelling}, {"dimension", to_string(u.dim)},
+                              {"to_si", u.to_si}});
+    }
+    return j;
+}
+
+std::string render_text() {
+    std::ostringstream out;
+    auto params = [&](const std::vector<ParamDef>& ps, bool skip_common) {
+        for (const auto& p : ps) {
+            if (skip_common && !p.group.empty()) continue;
+            out << "    " << p.name << ": " << type_label(p) << " = " << format_default(p);
+            if (auto r = range_label(p); !r.empty()) out << "  in " << r;
+            out << "\n        " << p.doc << "\n";
+        }
+    };
+    out << "MANEUVERS\n";
+    for (const auto& m : maneuvers()) {
+        out << "\n  " << m.name << "  (" << m.default_candidates << " candidates by default)\n"
+            << "    " << m.doc << "\n    returns " << m.status << "\n";
+        params(m.params, true);
+    }
+    out << "\n  common to every maneuver:\n";
+    params(maneuvers()[0].params, false);
+    out << "\nCONDITIONS\n";
+    for (const auto& c : conditions()) {
+        out << "\n  " << c.name << "\n    " << c.doc << "\n";
+        params(c.params, false);
+        if (!c.at_least_one_of.empty()) {
+            out << "    (at least one of:";
+            for (const auto& n : c.at_least_one_of) out << " " << n;
+            out << ")\n";
+        }
+    }
+    out << "\nEXPECTATIONS\n";
+    for (const auto& e : expectations()) {
+        out << "  " << e.name << " -> " << (e.boolean ? "bool" : to_string(e.result)) << "  "
+            << e.doc << "\n";
+    }
+    return out.str();
+}
+
+std::string render_markdown() {
+    std::ostringstream out;
+    out << "# Catalog\n\n"
+        << "Generated by `sdv catalog --format markdown`; do not edit by hand.\n"
+        << "Every maneuver and condition the language knows, with parameters, units, defaults "
+           "and allowed ranges (inclusive; `(` marks an exclusive bound).\n\n";
+    auto table = [&](const std::vector<ParamDef>& ps, bool skip_common) {
+        out << "| parameter | type | default | allowed | meaning |\n|---|---|---|---|---|\n";
+        for (const auto& p : ps) {
+            if (skip_common && !p.group.empty()) continue;
+            out << "| `" << p.name << "` | " << type_label(p) << " | " << format_default(p)
+                << " | " << range_label(p) << " | " << p.doc << " |\n";
+        }
+        out << "\n";
+    };
+    out << "## Maneuvers\n\n";
+    for (const auto& m : maneuvers()) {
+        out << "### `" << m.name << "`\n\n" << m.doc << ". Returns " << m.status << ". "
+            << m.default_candidates << " candidate trajectories with the defaults.\n\n";
+        table(m.params, true);
+    }
+    out << "### Common maneuver parameters\n\n"
+        << "Every maneuver also takes these (`stop` has `max_long_acc` 30 m/s²; `reverse` has "
+           "`direction` false).\n\n";
+    table(maneuvers()[0].params, false);
+    out << "## Conditions\n\n";
+    for (const auto& c : conditions()) {
+        out << "### `" << c.name << "`\n\n" << c.doc << ".";
+        if (!c.at_least_one_of.empty()) {
+            out << " At least one of";
+            for (const auto& n : c.at_least_one_of) out << " `" << n << "`";
+            out << " is required.";
+        }
+        if (!c.exclusive.empty()) {
+            out << " Exclusive:";
+            for (const auto& n : c.exclusive) out << " `" << n << "`";
+            out << ".";
+        }
+        out << "\n\n";
+        if (!c.params.empty()) table(c.params, false);
+    }
+    out << "## Expectations\n\n| function | vehicles | result | meaning |\n|---|---|---|---|\n";
+    for (const auto& e : expectations()) {
+        out << "| `" << e.name << "` | " << e.min_vehicles << "–" << e.max_vehicles << " | "
+            << (e.boolean ? "bool" : to_string(e.result)) << " | " << e.doc << " |\n";
+    }
+    out << "\n## Units\n\n| unit | dimension | factor to SI |\n|---|---|---|\n";
+    for (const auto& u : all_units()) {
+        out << "| `" << u.spelling << "` | " << to_string(u.dim) << " | " << fmt_number(u.to_si)
+            << " |\n";
+    }
+    out << "\nASCII spellings: `m/s^2`, `m/s2` and `m/s²` are the same unit; `+-` is `±`.\n";
+    return out.str();
+}
+
+}  // namespace sdv::catalog

@@ -1,0 +1,151 @@
+// The catalog: every maneuver, condition and expectation function of the language, with its
+// parameters (type, dimension, default, allowed range) and a one-line meaning. This is the one
+// registry that the checker validates against, the runtime reads its defaults from, and
+// `sdv catalog` and docs/catalog.md print. Values are stored in SI units.
+#pragma once
+
+#include <nlohmann/json_fwd.hpp>
+
+#include <limits>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "runtime/catalog/units.h"
+
+namespace sdv::catalog {
+
+// What kind of value a parameter takes.
+enum class ParamType {
+    quantity,  // a number with a unit of `dim` (Dim::none: a plain number)
+    integer,   // a whole number without unit
+    boolean,   // true / false
+    choice,    // one of `choices`
+    vehicle,   // a vehicle: its name, `ego`, `self`, or a zone (front, front_left, ...)
+};
+
+std::string_view to_string(ParamType type);
+
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// A default that may itself be a sampled range: value ±spread_pct % with `samples` points.
+struct DefaultValue {
+    double value = 0.0;       // SI; for choices the index into `choices`; for booleans 0/1
+    double spread_pct = 0.0;  // ± percentage of value (0: a single value)
+    int samples = 1;
+};
+
+struct ParamDef {
+    std::string name;
+    ParamType type = ParamType::quantity;
+    Dim dim = Dim::none;
+    std::optional<DefaultValue> def;  // nullopt: required, or optional-without-default (below)
+    bool optional = false;            // may be left out even though it has no default
+    double min = -kInf;               // allowed range (SI, inclusive)
+    double max = kInf;
+    bool min_exclusive = false;  // e.g. durations and jerk limits must be > 0
+    bool sampleable = false;     // may be given as a range with samples
+    std::vector<std::string> choices;
+    std::string doc;
+    std::string group;  // "" for kind-specific parameters; "feasibility", "cost", "lateral"
+
+    bool required() const { return !def.has_value() && !optional; }
+};
+
+// The runtime's maneuver kinds, in the order of SPEC §3.6.
+enum class ManeuverKind { keep_velocity, follow, lane_change, cut_in, stop, reverse };
+
+struct ManeuverDef {
+    std::string name;
+    ManeuverKind kind;
+    std::string doc;
+    std::string status;  // what the leaf returns, in words
+    std::vector<ParamDef> params;  // kind-specific first, then the common ones
+    int default_candidates = 0;    // candidates with all defaults (product of samples)
+
+    const ParamDef* find_param(std::string_view name) const;
+};
+
+enum class ConditionKind {
+    sim_time,
+    vehicle_state,
+    delta_state,
+    gap,
+    ttc,
+    distance,
+    lane_occupied,
+    can_lane_change,
+    vehicle_moving,
+    vehicle_stopped,
+    vehicle_parked,
+    reached_goal,
+    at_lane_change_segment,
+    approaching_stop,
+    traffic_light,
+    intersection_type,
+    yield_role,
+    intersection_occupied,
+    all_way_stop_turn,
+};
+
+struct ConditionDef {
+    std::string name;
+    ConditionKind kind;
+    std::string doc;
+    std::vector<ParamDef> params;
+    // Groups of parameters of which at least one must be given (e.g. sim_time: after/before).
+    std::vector<std::string> at_least_one_of;
+    // Parameters that exclude each other (e.g. gap: vehicle / lane).
+    std::vector<std::string> exclusive;
+
+    const ParamDef* find_param(std::string_view name) const;
+};
+
+// Functions usable in `expect` statements.
+enum class ExpectKind {
+    collision,     // collision(a, b) / collision(a) / collision(): bool
+    no_collision,  // no_collision(): bool
+    reached_goal,  // reached_goal(v): bool
+    min_gap,       // min_gap(a, b): length
+    min_ttc,       // min_ttc(a, b): time
+    min_headway,   // min_headway(a, b): time
+    max_jerk,      // max_jerk(v): jerk
+    max_acc,       // max_acc(v): acceleration
+    max_speed,     // max_speed(v): speed
+    fallback_used, // fallback_used(v): bool
+    timeout,       // timeout(): bool
+};
+
+struct ExpectDef {
+    std::string name;
+    ExpectKind kind;
+    int min_vehicles = 0;  // number of vehicle arguments
+    int max_vehicles = 0;
+    Dim result = Dim::none;  // none with boolean = true
+    bool boolean = false;
+    std::string doc;
+};
+
+std::span<const ManeuverDef> maneuvers();
+std::span<const ConditionDef> conditions();
+std::span<const ExpectDef> expectations();
+
+const ManeuverDef* find_maneuver(std::string_view name);
+const ConditionDef* find_condition(std::string_view name);
+const ExpectDef* find_expectation(std::string_view name);
+const ManeuverDef& maneuver(ManeuverKind kind);
+const ConditionDef& condition(ConditionKind kind);
+
+// The vehicle zones of SPEC §3.5 and the other words a `vehicle` parameter accepts.
+std::span<const std::string> vehicle_zones();
+
+// Rendering, shared by `sdv catalog` and docs/catalog.md.
+std::string render_text();
+std::string render_markdown();
+nlohmann::ordered_json to_json();
+// Formats an SI value in the parameter's display unit ("14 m/s ±10 % × 3").
+std::string format_default(const ParamDef& p);
+
+}  // namespace sdv::catalog

@@ -1,0 +1,160 @@
+#!/usr/bin/env python3
+"""Generates docs/diagnostics.md: one entry per diagnostic code, with its explanation (below)
+and its example, which is the golden test of that code (input and the compiler's exact
+output). Run after refreshing golden files; CI checks the committed file is up to date:
+
+    scripts/gen-diagnostics-doc.py            # write docs/diagnostics.md
+    scripts/gen-diagnostics-doc.py --check    # exit 1 if it would change
+"""
+import pathlib
+import re
+import sys
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+GOLDEN = ROOT / "tests" / "golden" / "lint"
+
+# code: (title, explanation and fix)
+ENTRIES = {
+    "E0001": ("unexpected character or invalid encoding",
+              "The file contains a character that cannot start any token (`$`, a control "
+              "character), or is not valid UTF-8 (a binary file). Remove the character; save the "
+              "file as UTF-8."),
+    "E0002": ("unterminated string",
+              "A string literal has no closing `\"` on its line. Close it; strings cannot span lines."),
+    "E0003": ("syntax error",
+              "The parser found a token it did not expect. The note lists what it expected at that "
+              "point. After 20 syntax errors in one file the parser stops."),
+    "E0004": ("nesting too deep",
+              "Braces, brackets, parentheses and decorators nest more than 128 levels. Such input is "
+              "refused before parsing so that it cannot exhaust the stack; split the tree into "
+              "named subtrees."),
+    "E0005": ("number out of range",
+              "A number literal does not fit a double (magnitude 1.8e308 and more)."),
+    "E0006": ("cannot read file",
+              "The file named on the command line does not exist or cannot be read."),
+    "E0101": ("unknown tree",
+              "A `subtree` or a vehicle's `tree` names a tree that is not declared in the file or "
+              "its imports. Standard trees are `std.NAME` and need `import \"std/FILE.sdv\"`."),
+    "E0102": ("unknown maneuver", "The maneuver is not in the catalog (`sdv catalog`)."),
+    "E0103": ("unknown condition", "The condition is not in the catalog (`sdv catalog`)."),
+    "E0104": ("unknown parameter",
+              "A maneuver, condition, tree or `parallel` has no parameter of that name. The note "
+              "suggests the closest name."),
+    "E0105": ("unknown vehicle",
+              "A vehicle reference (in a tree used by the scenario, or in an expectation) names no "
+              "vehicle of the scenario, and is not `ego`, `self` or a zone."),
+    "E0106": ("unknown lane",
+              "A lane reference does not fit the road: built-in roads number their lanes (1, 2, "
+              "-1), junction lanes are named, and only junctions with traffic lights have lights."),
+    "E0107": ("unknown import", "The imported file does not exist (standard library or relative path)."),
+    "E0108": ("duplicate name",
+              "Two trees, roads, vehicles, scenarios, tree parameters or node labels have the "
+              "same name. The note points at the first one."),
+    "E0109": ("unknown road", "The scenario's `road` names no road, junction or map."),
+    "E0110": ("unknown node in an override",
+              "A subtree reference overrides `label.field`, but the tree has no node with that "
+              "label, or the node is not a maneuver or condition."),
+    "E0111": ("unknown expectation", "The function in an `expect` is not in the catalog."),
+    "E0112": ("unknown parameter type", "A tree parameter's type is not one of the language's types."),
+    "E0113": ("unknown setting or kind",
+              "A vehicle kind, scenario setting, or statement that does not apply here (a tree on "
+              "a trajectory vehicle, say)."),
+    "E0201": ("wrong unit",
+              "The value's unit has the wrong dimension for the parameter (`speed = 5 m`), or a "
+              "tree parameter of one type is passed where another is expected."),
+    "E0202": ("missing unit", "A physical quantity was written without its unit. Only 0 may omit it."),
+    "E0203": ("unknown unit", "The unit is not in the unit table (see language.md)."),
+    "E0204": ("wrong kind of value",
+              "A string, a name or a list where a number is expected (or the reverse), a "
+              "comparison on a true/false expectation, or a number where a whole number is needed."),
+    "E0205": ("not sampleable",
+              "A range or `samples` on a parameter that cannot be sampled (see the catalog's "
+              "sampleable column), or on a scenario setting."),
+    "E0206": ("invalid choice", "The word is not one of the parameter's choices; the note lists them."),
+    "E0301": ("value out of range",
+              "The value (or an end of its range) lies outside the physical range the catalog "
+              "allows: a negative duration, a zero jerk limit, 1e308 m/s."),
+    "E0302": ("invalid sample count", "Sample counts are whole numbers from 1 to 100."),
+    "E0303": ("lane outside the road", "The lane index does not exist on the built-in road."),
+    "E0304": ("invalid range",
+              "An interval whose lower end is above its upper end, a negative spread, or samples "
+              "without a range."),
+    "E0305": ("too many candidates",
+              "The product of a maneuver's sample counts exceeds 20,000 candidate trajectories "
+              "per planning cycle."),
+    "E0401": ("missing required parameter",
+              "A required maneuver or condition parameter, or a tree parameter without default, "
+              "is not given."),
+    "E0402": ("subtree cycle", "A tree contains itself through subtree references."),
+    "E0403": ("unreachable child",
+              "In a fallback, a child that always succeeds (an open-ended maneuver, or a sequence "
+              "of them) hides every child after it."),
+    "E0404": ("no maneuver", "No path through the tree selects a maneuver."),
+    "E0405": ("tree root", "A tree must have exactly one root node; wrap several in a sequence or fallback."),
+    "E0406": ("exclusive parameters", "Two parameters that exclude each other are both given."),
+    "E0407": ("missing alternative", "The condition needs at least one of a group of parameters."),
+    "E0408": ("duplicate argument", "The same parameter is given twice."),
+    "E0410": ("empty composite", "A fallback, sequence or parallel without children."),
+    "E0501": ("no road", "A scenario must name its road, junction or map with `road NAME`."),
+    "E0502": ("vehicles overlap", "Two vehicles start with overlapping footprints."),
+    "E0503": ("off the road", "A position lies outside the road (before its start, past its end, or beyond its lane)."),
+    "E0504": ("duplicate setting", "A setting or statement is given twice."),
+    "E0505": ("sdv without tree", "An `sdv` vehicle needs a `tree`."),
+    "E0506": ("missing start", "A vehicle needs a `start` (or a trajectory with two waypoints or more)."),
+    "E0507": ("more than one ego", "A scenario has at most one ego."),
+    "E0508": ("expectation arity", "An expectation function got the wrong number of vehicles."),
+    "E0510": ("map file not found", "The map's `file` does not exist (paths are relative to the .sdv file)."),
+    "W0101": ("unused-tree", "A tree of the main file is used by no scenario (only when the file has a scenario)."),
+    "W0102": ("unused-parameter", "A tree parameter is never referenced in the tree."),
+    "W0103": ("unused-import", "Nothing from an import is used (only when the file has a scenario)."),
+    "W0104": ("no-expectations", "A scenario without `expect`: its run always passes."),
+}
+
+
+def render():
+    out = ["# Diagnostics", "",
+           "Generated by `scripts/gen-diagnostics-doc.py` from the golden tests "
+           "(tests/golden/lint/CODE_*); do not edit by hand.", "",
+           "Every diagnostic has a stable code: `E00xx` syntax, `E01xx` names, `E02xx` types and "
+           "units, `E03xx` values, `E04xx` trees, `E05xx` scenarios, `W01xx` warnings. Warnings "
+           "are named; `-Wno-NAME` silences one, `-Werror=NAME` promotes one, `-Werror` all. "
+           "`--format json` prints the same diagnostics as JSON.", ""]
+    for code, (title, text) in ENTRIES.items():
+        out += [f"## {code}: {title}", "", text, ""]
+        cases = sorted(GOLDEN.glob(code + "_*"))
+        if not cases:
+            continue
+        case = cases[0]
+        src = case / "input.sdv"
+        if src.exists():
+            out += [f"Example ({case.relative_to(ROOT)}):", "", "```text",
+                    src.read_text().rstrip("\n"), "```", ""]
+        err = case / "expected.err"
+        if err.exists():
+            out += ["```text", err.read_text().rstrip("\n"), "```", ""]
+    return "\n".join(out)
+
+
+def main():
+    text = render()
+    path = ROOT / "docs" / "diagnostics.md"
+    if "--check" in sys.argv:
+        if not path.exists() or path.read_text() != text:
+            print("docs/diagnostics.md is out of date: run scripts/gen-diagnostics-doc.py")
+            return 1
+        used = set(re.findall(r'"([EW]\d{4})"', "".join(
+            p.read_text() for p in (ROOT / "compiler").rglob("*.cpp"))))
+        missing = sorted(c for c in used if c not in ENTRIES)
+        untested = sorted(c for c in ENTRIES if not list(GOLDEN.glob(c + "_*")))
+        if missing or untested:
+            print("codes used but not documented:", missing)
+            print("codes without a golden test:", untested)
+            return 1
+        print(f"{len(ENTRIES)} codes documented and tested")
+        return 0
+    path.write_text(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,80 @@
+// The catalog holds SPEC §3.6's defaults and candidate counts, and is internally consistent.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <set>
+
+#include "runtime/catalog/catalog.h"
+
+using namespace sdv::catalog;
+
+TEST_CASE("default candidate counts match SPEC 3.6") {
+    CHECK(maneuver(ManeuverKind::keep_velocity).default_candidates == 18);
+    CHECK(maneuver(ManeuverKind::follow).default_candidates == 10);
+    CHECK(maneuver(ManeuverKind::lane_change).default_candidates == 6);
+    CHECK(maneuver(ManeuverKind::cut_in).default_candidates == 30);
+    CHECK(maneuver(ManeuverKind::stop).default_candidates == 6);
+    CHECK(maneuver(ManeuverKind::reverse).default_candidates == 18);
+}
+
+TEST_CASE("maneuver kinds index the table in order") {
+    for (size_t i = 0; i < maneuvers().size(); ++i) {
+        CHECK(static_cast<size_t>(maneuvers()[i].kind) == i);
+    }
+    for (size_t i = 0; i < conditions().size(); ++i) {
+        CHECK(static_cast<size_t>(conditions()[i].kind) == i);
+    }
+}
+
+TEST_CASE("common defaults follow the reference") {
+    const auto& kv = maneuver(ManeuverKind::keep_velocity);
+    CHECK(kv.find_param("max_long_jerk")->def->value == 10);
+    CHECK(kv.find_param("max_lat_acc")->def->value == doctest::Approx(4.9));
+    CHECK(kv.find_param("w_proximity")->def->value == 10);
+    CHECK(kv.find_param("speed")->def->spread_pct == 10);
+    CHECK(maneuver(ManeuverKind::stop).find_param("max_long_acc")->def->value == 30);
+    CHECK(maneuver(ManeuverKind::reverse).find_param("direction")->def->value == 0);
+    CHECK(kv.find_param("direction")->def->value == 1);
+    CHECK(kv.find_param("nonexistent") == nullptr);
+}
+
+TEST_CASE("names are unique and defaults lie in their allowed range") {
+    std::set<std::string> names;
+    for (const auto& m : maneuvers()) {
+        CHECK(names.insert(m.name).second);
+        std::set<std::string> pnames;
+        for (const auto& p : m.params) {
+            CHECK(pnames.insert(p.name).second);
+            if (p.def && (p.type == ParamType::quantity || p.type == ParamType::integer)) {
+                CHECK(p.def->value >= p.min);
+                CHECK(p.def->value <= p.max);
+            }
+            CHECK(!p.doc.empty());
+        }
+    }
+    for (const auto& c : conditions()) {
+        CHECK(names.insert(c.name).second);
+        for (const auto& g : c.at_least_one_of) CHECK(c.find_param(g) != nullptr);
+        for (const auto& g : c.exclusive) CHECK(c.find_param(g) != nullptr);
+    }
+}
+
+TEST_CASE("units normalise to SI") {
+    CHECK(find_unit("km/h")->to_si == doctest::Approx(1 / 3.6));
+    CHECK(find_unit("m/s^2")->dim == Dim::accel);
+    CHECK(find_unit("deg")->to_si == doctest::Approx(M_PI / 180));
+    CHECK(!find_unit("furlong"));
+    CHECK(is_unit_atom("km"));
+    CHECK(!is_unit_atom("speed"));
+}
+
+TEST_CASE("renderings mention every entry") {
+    const std::string text = render_text();
+    const std::string md = render_markdown();
+    for (const auto& m : maneuvers()) {
+        CHECK(text.find(m.name) != std::string::npos);
+        CHECK(md.find("`" + m.name + "`") != std::string::npos);
+    }
+    CHECK(format_default(*maneuver(ManeuverKind::keep_velocity).find_param("speed")) ==
+          "14 m/s ±10% samples 3");
+}
