@@ -84,7 +84,7 @@ quantity : sign=('-' | '+')? number unit? ;
 number : INT | FLOAT ;
 unit
     : PERCENT
-    | unitAtom (('/' unitAtom) | SUP2 | SUP3 | ('^' INT))*
+    | unitAtom (('/' ident) | SUP2 | SUP3 | ('^' INT))*
     ;
 unitAtom : {sdv::compiler::syntax::is_unit_word(_input->LT(1)->getText())}? ident ;
 

@@ -32,6 +32,10 @@ ENTRIES = {
               "A number literal does not fit a double (magnitude 1.8e308 and more)."),
     "E0006": ("cannot read file",
               "The file named on the command line does not exist or cannot be read."),
+    "E0007": ("too many errors",
+              "After 100 errors in one compilation the checker stops reporting; fix the first "
+              "ones and run again."),
+    "E0008": ("empty file", "The file holds no declaration at all (it is empty or only comments)."),
     "E0101": ("unknown tree",
               "A `subtree` or a vehicle's `tree` names a tree that is not declared in the file or "
               "its imports. Standard trees are `std.NAME` and need `import \"std/FILE.sdv\"`."),

@@ -24,24 +24,35 @@ size_t code_points(std::string_view s) {
 std::string snippet(SourceRange r, const SourceManager& sm) {
     const auto b = sm.line_col(r.begin);
     if (b.line == 0) return "";
-    std::string text(sm.line_text(r.begin.file, b.line));
-    // Long lines (generated files) are cut so that the snippet stays readable.
-    constexpr size_t kMaxShown = 200;
-    size_t col = b.col;
-    std::string shown;
-    size_t cps = 0;
+    const std::string_view text = sm.line_text(r.begin.file, b.line);
+    // Long lines (generated files) are shown as a window around the caret.
+    constexpr size_t kBefore = 60, kMaxShown = 160;
+    const size_t first = b.col > kBefore + 20 ? b.col - kBefore : 1;  // first column shown
+    size_t col = b.col - first + 1;
+    std::string shown = first > 1 ? "..." : "";
+    if (first > 1) col += 3;
+    size_t cp = 0;
     for (size_t i = 0; i < text.size(); ++i) {
         const auto c = static_cast<unsigned char>(text[i]);
-        if ((c & 0xC0) != 0x80) ++cps;
-        if (cps > kMaxShown + col && cps > kMaxShown) break;
-        shown += (c == '\t' || c < 0x20) ? ' ' : text[i];
+        if ((c & 0xC0) != 0x80) ++cp;
+        if (cp < first) continue;
+        if (cp >= first + kMaxShown) {
+            if ((c & 0xC0) != 0x80) {
+                shown += "...";
+                break;
+            }
+            continue;
+        }
+        shown += (c == '\t' || c < 0x20) ? ' ' : static_cast<char>(c);
     }
     // Width of the underline: the range on this line, at least one.
     size_t width = 1;
     const auto e = sm.line_col(r.end);
     if (r.end.file == r.begin.file && r.end.offset > r.begin.offset) {
+        const size_t line_end = code_points(shown) + 1;
         width = e.line == b.line ? std::max<size_t>(1, e.col - b.col)
-                                 : std::max<size_t>(1, code_points(shown) + 1 - col);
+                                 : std::max<size_t>(1, line_end > col ? line_end - col : 1);
+        width = std::min(width, std::max<size_t>(1, line_end > col ? line_end - col : 1));
     }
     const std::string num = std::to_string(b.line);
     const size_t gutter = std::max<size_t>(4, num.size());
@@ -60,10 +71,13 @@ std::string location(SourceRange r, const SourceManager& sm) {
 
 std::string render_text(const Diagnostic& d, const SourceManager& sm) {
     std::string out;
-    const std::string head = std::string(severity_word(d.severity)) + "[" + d.code + "]: " + d.message +
-                             (d.warning_name.empty() || d.severity != Severity::warning
-                                  ? ""
-                                  : " [-W" + d.warning_name + "]");
+    std::string flag;
+    if (!d.warning_name.empty()) {
+        flag = d.severity == Severity::warning ? " [-W" + d.warning_name + "]"
+                                               : " [-Werror,-W" + d.warning_name + "]";
+    }
+    const std::string head =
+        std::string(severity_word(d.severity)) + "[" + d.code + "]: " + d.message + flag;
     if (d.range.valid()) {
         out = location(d.range, sm) + ": " + head + "\n" + snippet(d.range, sm);
     } else {

@@ -173,6 +173,7 @@ struct Binding {
     const ast::Value* value = nullptr;  // null: declared without a bound value (generic check)
     const Env* env = nullptr;           // where `value` is evaluated
     TypeInfo type;
+    bool untyped = false;  // its declared type is unknown (reported): accept any use
 };
 struct Env {
     const TreeSym* tree = nullptr;
@@ -211,7 +212,6 @@ public:
         if (units_.empty() || units_[0].file == nullptr) return out;
         collect_symbols();
         check_trees();
-        check_cycles();
         ir::Program program;
         program.compiler_version = kCompilerVersion;
         for (auto& u : units_) {
@@ -444,6 +444,7 @@ private:
                 if (env->tree != nullptr) {
                     const_cast<TreeSym*>(env->tree)->used_params.insert(it->first);
                 }
+                if (b.untyped) return Eval{};
                 if (!compatible(b.type, expect)) {
                     error("E0201", v.lo.range,
                           "parameter '" + it->first + "' is " + type_phrase(b.type) + ", but " +
@@ -712,6 +713,7 @@ private:
         // be checked against them; then the bodies.
         std::vector<Env> envs(trees_.size());
         for (size_t i = 0; i < trees_.size(); ++i) declare_tree(trees_[i], envs[i]);
+        check_cycles();
         for (size_t i = 0; i < trees_.size(); ++i) check_tree_body(trees_[i], envs[i]);
     }
 
@@ -730,6 +732,8 @@ private:
                 auto type = find_type(p.type);
                 if (!type) {
                     t.ok = false;
+                    env.params[p.name.text] = Binding{nullptr, nullptr, {}, true};
+                    t.used_params.insert(p.name.text);  // no follow-on warning
                     continue;
                 }
                 env.params[p.name.text] = Binding{nullptr, nullptr, *type};
@@ -783,7 +787,7 @@ private:
             case ast::NodeKind::condition: return false;
             case ast::NodeKind::subtree: {
                 auto it = tree_index_.find(n.callee.str());
-                if (it == tree_index_.end()) return true;  // reported elsewhere
+                if (it == tree_index_.end() || cyclic_.count(it->second)) return true;  // reported
                 const auto& body = trees_[it->second].decl->body;
                 return body.empty() ? false : can_select(*body[0], depth + 1);
             }
@@ -818,7 +822,7 @@ private:
                 return false;
             case ast::NodeKind::subtree: {
                 auto it = tree_index_.find(n.callee.str());
-                if (it == tree_index_.end()) return false;
+                if (it == tree_index_.end() || cyclic_.count(it->second)) return false;
                 const auto& body = trees_[it->second].decl->body;
                 return body.size() == 1 && always_succeeds(*body[0], depth + 1);
             }
@@ -1598,6 +1602,7 @@ private:
             for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
             d->notes.push_back({{}, std::string(v.is_ego ? "the ego" : "a vehicle") + " is one of: " + list});
         }
+        if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) return out;
         if (out.kind == ir::VehicleKind::external) {
             auto* d = error("E0113", v.kind.range, "external egos (co-simulation) are not supported yet");
             d->notes.push_back({{}, "use 'sdv' (a placeholder driven by a tree) or 'trajectory'"});
@@ -1628,14 +1633,14 @@ private:
             error("E0504", v.trees[i].range, "duplicate 'tree' of " + what);
         }
         if (!v.starts.empty()) {
-            out.start = check_position(v.starts[0], ctx, what + "'s start");
+            out.start = check_position(v.starts[0], ctx, "the start of " + what);
         } else if (out.kind != ir::VehicleKind::trajectory) {
             auto* d = error("E0506", v.name.range, what + " has no start position");
             d->notes.push_back({{}, "add e.g. 'start lane 1 at 20 m'"});
         }
-        if (!v.goals.empty()) out.goal = check_position(v.goals[0], ctx, what + "'s goal");
+        if (!v.goals.empty()) out.goal = check_position(v.goals[0], ctx, "the goal of " + what);
         if (!v.routes.empty()) {
-            for (const auto& l : v.routes[0]) out.route.push_back(resolve_lane(l, ctx, what + "'s route"));
+            for (const auto& l : v.routes[0]) out.route.push_back(resolve_lane(l, ctx, "the route of " + what));
         }
         if (out.kind == ir::VehicleKind::sdv) {
             if (v.trees.empty()) {
@@ -1668,7 +1673,7 @@ private:
                         }
                         last = wp.time;
                     }
-                    wp.position = check_position(w.position, ctx, what + "'s waypoint");
+                    wp.position = check_position(w.position, ctx, "a waypoint of " + what);
                     if (w.speed) {
                         ParamDef sdef;
                         sdef.dim = Dim::speed;

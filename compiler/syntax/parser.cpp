@@ -3,6 +3,9 @@
 // builder. ANTLR counts positions in code points; the builder maps them to byte offsets.
 #include "compiler/syntax/parser.h"
 
+#include "compiler/diag/suggest.h"
+#include "runtime/catalog/units.h"
+
 #include <SdvLexer.h>
 #include <SdvParser.h>
 #include <antlr4-runtime.h>
@@ -79,6 +82,13 @@ public:
 
     void syntaxError(antlr4::Recognizer* recognizer, Token* offending, size_t, size_t,
                      const std::string& msg, std::exception_ptr) override {
+        // One mistake often derails the next few tokens: report an error only when the parser
+        // got at least a few tokens past the previous one.
+        if (offending != nullptr && last_ >= 0 &&
+            static_cast<long>(offending->getTokenIndex()) < last_ + 4) {
+            return;
+        }
+        if (offending != nullptr) last_ = static_cast<long>(offending->getTokenIndex());
         ++count_;
         diag::SourceRange range{};
         std::string found = "end of file";
@@ -89,6 +99,24 @@ public:
             stop = std::min(std::max(stop, start), offs_.size() - 1);
             range = {{file_, offs_[start]}, {file_, offs_[stop]}};
             if (offending->getType() != Token::EOF) found = "'" + offending->getText() + "'";
+        }
+        // A word right after a number that is not a unit: say so rather than "syntax error".
+        if (auto* parser = dynamic_cast<antlr4::Parser*>(recognizer);
+            parser != nullptr && offending != nullptr && offending->getTokenIndex() > 0) {
+            Token* prev = parser->getTokenStream()->get(offending->getTokenIndex() - 1);
+            const auto type = offending->getType();
+            if ((prev->getType() == SdvParser::INT || prev->getType() == SdvParser::FLOAT) &&
+                type == SdvParser::ID) {
+                std::vector<std::string> units;
+                for (const auto& u : catalog::all_units()) units.emplace_back(u.spelling);
+                auto& d = diags_.error("E0203", range, "unknown unit '" + offending->getText() + "'");
+                if (auto m = diag::closest_match(offending->getText(), units)) {
+                    d.notes.push_back({{}, "did you mean '" + *m + "'?"});
+                }
+                d.notes.push_back({{}, "units are listed in `sdv catalog` and docs/language.md"});
+                if (count_ >= kMaxSyntaxErrors) throw CancelParse{};
+                return;
+            }
         }
         std::string expected;
         if (auto* parser = dynamic_cast<antlr4::Parser*>(recognizer)) {
@@ -137,7 +165,7 @@ private:
                 names.push_back(sym);
             }
         }
-        if (name_like) names.insert(names.begin(), "a name or keyword");
+        if (name_like) names.insert(names.begin(), "a name");
         if (names.empty() || names.size() > 8) return "";
         std::string out;
         for (size_t i = 0; i < names.size(); ++i) {
@@ -151,6 +179,7 @@ private:
     const std::vector<uint32_t>& offs_;
     diag::DiagnosticEngine& diags_;
     int count_ = 0;
+    long last_ = -1;
 };
 
 // Builds the owned AST from a parse tree that had no syntax errors.
@@ -763,6 +792,12 @@ std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& s
             kept.push_back(std::move(t));
         }
         if (lexical_errors) return nullptr;
+        if (kept.empty()) {
+            diags.error("E0008", {{file, 0}, {file, 0}}, "the file declares nothing")
+                .notes.push_back({{}, "a .sdv file holds imports, roads, trees and scenarios"});
+            return nullptr;
+        }
+        kept.push_back(lexer.nextToken());  // EOF, which getAllTokens() leaves out
 
         antlr4::ListTokenSource source(std::move(kept));
         antlr4::CommonTokenStream stream(&source);
