@@ -4,6 +4,11 @@
 function(sdv_warnings target)
     target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wconversion
                                              -Wno-sign-conversion)
+    # GCC 12 reports -Wrestrict false positives inside libstdc++'s std::string at -O2
+    # (GCC bug 105329); they are not about our code.
+    if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
+        target_compile_options(${target} PRIVATE -Wno-restrict)
+    endif()
     if(SDV_WERROR)
         target_compile_options(${target} PRIVATE -Werror)
     endif()

@@ -1,0 +1,48 @@
+// Maneuver configurations as the planner consumes them: plain numbers in SI, the field names of
+// the catalog (runtime/catalog), whose defaults `default_config` reads, so that the language,
+// `sdv catalog` and the planner can never disagree on a default.
+#pragma once
+
+#include "runtime/catalog/catalog.h"
+#include "runtime/planner/sampling.h"
+
+namespace sdv::planner {
+
+using catalog::ManeuverKind;
+
+enum class StopTarget { goal, stop_line, position, now };
+enum class LaneTarget { left, right, route, current, target };
+
+struct CommonConfig {
+    double max_long_jerk = 10, max_lat_jerk = 10;
+    double max_long_acc = 12, max_lat_acc = 4.9;
+    bool collision = true, off_lane = true, direction = true;
+    double w_time = 1, w_efficiency = 1, w_lane_offset = 1, w_long_jerk = 1, w_lat_jerk = 1,
+           w_long_acc = 1, w_lat_acc = 1, w_proximity = 10;
+    double expected_offset = 0.5, expected_acc = 1, expected_jerk = 2;
+    Sampled lat_offset = Sampled::single(0.0);
+    int eval_points = 10;
+};
+
+struct ManeuverConfig {
+    ManeuverKind kind = ManeuverKind::keep_velocity;
+    CommonConfig common;
+    Sampled speed = Sampled::single(14);        // keep_velocity, reverse
+    Sampled duration = Sampled::single(3);      // all but stop
+    double max_speed_change = 8;                // keep_velocity
+    double time_gap = 3, stop_distance = 3;     // follow
+    LaneTarget lane = LaneTarget::left;         // lane_change, cut_in
+    Sampled delta_s = Sampled::single(10);      // cut_in
+    double delta_v = 5, delta_a = 0;            // cut_in
+    StopTarget stop_at = StopTarget::now;       // stop
+    double stop_position = 0, stop_before = 0;  // stop
+    Sampled duration_factor = Sampled::single(1);  // stop
+};
+
+// The catalog's defaults for a maneuver kind (SPEC §3.6).
+ManeuverConfig default_config(ManeuverKind kind);
+
+// Candidates a configuration produces: the product of its sample counts.
+int candidate_count(const ManeuverConfig& config);
+
+}  // namespace sdv::planner

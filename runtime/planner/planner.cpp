@@ -1,0 +1,307 @@
+// Candidate generation, feasibility and cost. The formulas, in one place:
+//
+// Targets per kind (T = sampled duration, lat = lane centre + sampled lat_offset):
+//   keep_velocity  s: quartic to speed v (|v − ṡ0| capped at max_speed_change), s̈ = 0
+//   follow         leader L at constant speed: s_L(T) = s_L + v_L T;
+//                  s: quintic to s_L(T) − (len_L + len)/2 − max(stop_distance, time_gap·v_L),
+//                  speed v_L, acc 0; if v_L < 1.5 m/s: stop behind it at stop_distance
+//   lane_change    s: quartic keeping the current speed; d to the target lane's centre
+//   cut_in         target V: s_V(T) + 2·len + delta_s, speed v_V + delta_v, acc delta_a
+//   stop           s: quintic to (stop_s − distance, 0, 0), T = factor · 2Δs / max(ṡ0, 1 m/s)
+//                  (at least 1 s); `now` stops at ṡ0² / (2 · 3 m/s²) ahead
+//   reverse        s: quartic to −speed
+//   d: always quintic to (lat, 0, 0) at T.
+// Feasibility at eval_points evenly spaced times in [0, T], first failure recorded:
+//   |s⃛| > max_long_jerk, |d⃛| > max_lat_jerk, |s̈| > max_long_acc, |d̈| > max_lat_acc,
+//   collision (3 circles per vehicle, radius √((len/6)² + (width/2)²), against every
+//   obstacle's constant-velocity prediction), off-lane (own footprint d ± width/2 outside the
+//   current lane; not for lane_change / cut_in), direction (ṡ < −0.01 m/s; not for reverse).
+// Cost = Σ wᵢ · logistic(xᵢ), logistic(x) = 2 / (1 + e^−x) − 1, with
+//   time        |T − T_nominal| (s)
+//   efficiency  |mean speed − target speed| (m/s), mean speed = (s(T) − s(0)) / T
+//   lane offset mean |d − lat| / expected_offset
+//   jerk        RMS of s⃛ (resp. d⃛) / expected_jerk
+//   acc         RMS of s̈ (resp. d̈) / expected_acc
+//   proximity   max over points and obstacles of 1 / max(clearance, 0.1 m), clearance = the
+//               smallest circle-to-circle distance (m)
+// Lowest total wins; ties go to the lower candidate index.
+#include "runtime/planner/planner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace sdv::planner {
+namespace {
+
+constexpr double kStopSpeed = 1.5;     // m/s: a slower leader is stopped behind
+constexpr double kComfortDecel = 3.0;  // m/s²: for stop(now)
+
+double logistic(double x) { return 2.0 / (1.0 + std::exp(-x)) - 1.0; }
+
+struct Footprint {
+    double offset[3];
+    double radius;
+};
+
+Footprint footprint(double length, double width) {
+    const double third = length / 3.0;
+    return {{-third, 0.0, third}, std::sqrt(length * length / 36.0 + width * width / 4.0)};
+}
+
+}  // namespace
+
+const char* to_string(RejectCause cause) {
+    switch (cause) {
+        case RejectCause::long_jerk: return "long_jerk";
+        case RejectCause::lat_jerk: return "lat_jerk";
+        case RejectCause::long_acc: return "long_acc";
+        case RejectCause::lat_acc: return "lat_acc";
+        case RejectCause::collision: return "collision";
+        case RejectCause::off_lane: return "off_lane";
+        case RejectCause::direction: return "direction";
+        case RejectCause::count_: break;
+    }
+    return "none";
+}
+
+FrenetState Trajectory::at(double t) const {
+    FrenetState f;
+    if (t <= duration) {
+        f = {s.x(t), s.v(t), s.a(t), d.x(t), d.v(t), d.a(t)};
+        return f;
+    }
+    const double sv = s.v(duration);
+    f.s = s.x(duration) + sv * (t - duration);
+    f.s_d = sv;
+    f.d = d.x(duration);
+    return f;
+}
+
+Trajectory plan_fallback(const FrenetState& start, double max_decel) {
+    Trajectory tr;
+    const double v = start.s_d;
+    const double decel = std::max(0.1, max_decel);
+    const double T = std::max(std::fabs(v) / decel, 0.1);
+    tr.s = Poly::quadratic(start.s, v, v >= 0 ? -decel : decel);
+    if (std::fabs(v) < 1e-9) tr.s = Poly::quadratic(start.s, 0.0, 0.0);
+    tr.d = Poly::quintic(start.d, start.d_d, start.d_dd, start.d, 0.0, 0.0, std::max(T, 1.0));
+    tr.duration = T;
+    return tr;
+}
+
+PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
+    PlanResult result;
+    const ManeuverConfig& cfg = *req.config;
+    const CommonConfig& k = cfg.common;
+    const FrenetState& st = req.start;
+    RandomStream rng(req.seed, req.vehicle, req.plan_number);
+    PlanRecord& rec = result.record;
+    if (ws.keep_candidates) ws.candidates.clear();
+
+    const bool lateral_move = cfg.kind == ManeuverKind::lane_change || cfg.kind == ManeuverKind::cut_in;
+    const LaneBand& lane = lateral_move ? req.target_lane : req.current_lane;
+    const bool check_off_lane = k.off_lane && !lateral_move;
+    const bool check_direction = k.direction && cfg.kind != ManeuverKind::reverse;
+
+    // Longitudinal sampled dimension (a) × second dimension (b) × lateral offsets (c).
+    ws.a.clear();
+    ws.b.clear();
+    ws.c.clear();
+    switch (cfg.kind) {
+        case ManeuverKind::keep_velocity:
+        case ManeuverKind::reverse:
+            sample(cfg.speed, rng, ws.a);
+            sample(cfg.duration, rng, ws.b);
+            break;
+        case ManeuverKind::cut_in:
+            sample(cfg.delta_s, rng, ws.a);
+            sample(cfg.duration, rng, ws.b);
+            break;
+        case ManeuverKind::stop:
+            ws.a.push_back(0.0);
+            sample(cfg.duration_factor, rng, ws.b);
+            break;
+        default:
+            ws.a.push_back(0.0);
+            sample(cfg.duration, rng, ws.b);
+            break;
+    }
+    sample(k.lat_offset, rng, ws.c);
+
+    const Obstacle* leader =
+        req.leader >= 0 && static_cast<size_t>(req.leader) < req.obstacles.size() ? &req.obstacles[static_cast<size_t>(req.leader)] : nullptr;
+    const Obstacle* target = req.target_vehicle >= 0 && static_cast<size_t>(req.target_vehicle) < req.obstacles.size()
+                                 ? &req.obstacles[static_cast<size_t>(req.target_vehicle)]
+                                 : nullptr;
+    // Stop distance for stop(now); the resolved point otherwise.
+    double stop_point = req.stop_s - cfg.stop_before;
+    if (cfg.kind == ManeuverKind::stop && cfg.stop_at == StopTarget::now) {
+        stop_point = st.s + std::max(0.0, st.s_d) * std::max(0.0, st.s_d) / (2 * kComfortDecel);
+    }
+    const double nominal_T = cfg.duration.value;
+    const Footprint own = footprint(req.length_m, req.width_m);
+    const int n_eval = std::max(2, k.eval_points);
+
+    double best = std::numeric_limits<double>::infinity();
+    int index = -1;
+    for (double a_val : ws.a) {
+        for (double b_val : ws.b) {
+            for (double lat : ws.c) {
+                ++index;
+                ++rec.candidates;
+                Candidate cand;
+                double T = b_val;
+                double target_v = 0;
+                Poly sp;
+                const double target_d = lane.center_d + lat;
+                switch (cfg.kind) {
+                    case ManeuverKind::keep_velocity: {
+                        const double dv = std::clamp(a_val - st.s_d, -cfg.max_speed_change, cfg.max_speed_change);
+                        target_v = st.s_d + dv;
+                        sp = Poly::quartic(st.s, st.s_d, st.s_dd, target_v, 0.0, T);
+                        break;
+                    }
+                    case ManeuverKind::reverse:
+                        target_v = -std::fabs(a_val);
+                        sp = Poly::quartic(st.s, st.s_d, st.s_dd, target_v, 0.0, T);
+                        break;
+                    case ManeuverKind::lane_change:
+                        target_v = st.s_d;
+                        sp = Poly::quartic(st.s, st.s_d, st.s_dd, target_v, 0.0, T);
+                        break;
+                    case ManeuverKind::follow: {
+                        if (leader == nullptr) {
+                            target_v = st.s_d;
+                            sp = Poly::quartic(st.s, st.s_d, st.s_dd, target_v, 0.0, T);
+                            break;
+                        }
+                        const double vl = leader->state.s_d;
+                        const double half = 0.5 * (leader->length_m + req.length_m);
+                        double ts;
+                        if (vl < kStopSpeed) {
+                            ts = leader->state.s + vl * T - half - cfg.stop_distance;
+                            target_v = 0;
+                        } else {
+                            ts = leader->state.s + vl * T - half - std::max(cfg.stop_distance, cfg.time_gap * vl);
+                            target_v = vl;
+                        }
+                        cand.target_s = ts;
+                        sp = Poly::quintic(st.s, st.s_d, st.s_dd, ts, target_v, 0.0, T);
+                        break;
+                    }
+                    case ManeuverKind::cut_in: {
+                        if (target == nullptr) {
+                            target_v = st.s_d;
+                            sp = Poly::quartic(st.s, st.s_d, st.s_dd, target_v, 0.0, T);
+                            break;
+                        }
+                        const double vt = target->state.s_d;
+                        const double ts = target->state.s + vt * T + 2 * req.length_m + a_val;
+                        target_v = vt + cfg.delta_v;
+                        cand.target_s = ts;
+                        sp = Poly::quintic(st.s, st.s_d, st.s_dd, ts, target_v, cfg.delta_a, T);
+                        break;
+                    }
+                    case ManeuverKind::stop: {
+                        const double ds = std::max(0.0, stop_point - st.s);
+                        T = std::max(1.0, b_val * 2.0 * ds / std::max(st.s_d, 1.0));
+                        cand.target_s = st.s + ds;
+                        sp = Poly::quintic(st.s, st.s_d, st.s_dd, st.s + ds, 0.0, 0.0, T);
+                        break;
+                    }
+                }
+                const Poly dp = Poly::quintic(st.d, st.d_d, st.d_dd, target_d, 0.0, 0.0, T);
+                cand.duration = T;
+                cand.target_v = target_v;
+                cand.target_d = target_d;
+
+                // Feasibility and the per-point cost accumulators in one pass over the points.
+                RejectCause cause = RejectCause::count_;
+                double sum_lj2 = 0, sum_dj2 = 0, sum_la2 = 0, sum_da2 = 0, sum_off = 0;
+                double min_clear = std::numeric_limits<double>::infinity();
+                const double dt = T / (n_eval - 1);
+                for (int e = 0; e < n_eval && cause == RejectCause::count_; ++e) {
+                    const double t = e * dt;
+                    const double sj = sp.j(t), dj = dp.j(t), sa = sp.a(t), da = dp.a(t);
+                    sum_lj2 += sj * sj;
+                    sum_dj2 += dj * dj;
+                    sum_la2 += sa * sa;
+                    sum_da2 += da * da;
+                    if (std::fabs(sj) > k.max_long_jerk) cause = RejectCause::long_jerk;
+                    else if (std::fabs(dj) > k.max_lat_jerk) cause = RejectCause::lat_jerk;
+                    else if (std::fabs(sa) > k.max_long_acc) cause = RejectCause::long_acc;
+                    else if (std::fabs(da) > k.max_lat_acc) cause = RejectCause::lat_acc;
+                    if (cause != RejectCause::count_) break;
+                    const double s = sp.x(t), d = dp.x(t);
+                    sum_off += std::fabs(d - target_d);
+                    for (const Obstacle& o : req.obstacles) {
+                        const double os = o.state.s + o.state.s_d * t;
+                        const double od = o.state.d + o.state.d_d * t;
+                        const double reach = 0.5 * (req.length_m + o.length_m) + 6.0;
+                        if (std::fabs(os - s) > reach || std::fabs(od - d) > 6.0) continue;
+                        const Footprint of = footprint(o.length_m, o.width_m);
+                        double clear = std::numeric_limits<double>::infinity();
+                        for (double oa : own.offset) {
+                            for (double ob : of.offset) {
+                                const double ds = (s + oa) - (os + ob), dd = d - od;
+                                clear = std::min(clear, std::sqrt(ds * ds + dd * dd) - own.radius - of.radius);
+                            }
+                        }
+                        min_clear = std::min(min_clear, clear);
+                        if (k.collision && clear < 0) {
+                            cause = RejectCause::collision;
+                            break;
+                        }
+                    }
+                    if (cause != RejectCause::count_) break;
+                    if (check_off_lane &&
+                        (d + 0.5 * req.width_m > req.current_lane.left_d + 1e-6 ||
+                         d - 0.5 * req.width_m < req.current_lane.right_d - 1e-6)) {
+                        cause = RejectCause::off_lane;
+                    } else if (check_direction && sp.v(t) < -0.01) {
+                        cause = RejectCause::direction;
+                    }
+                }
+                if (cause != RejectCause::count_) {
+                    ++rec.rejections[static_cast<size_t>(cause)];
+                    cand.cause = cause;
+                    if (ws.keep_candidates) ws.candidates.push_back(cand);
+                    continue;
+                }
+                ++rec.feasible;
+                cand.feasible = true;
+                CostTerms& c = cand.cost;
+                const double n = n_eval;
+                c.time = k.w_time * logistic(cfg.kind == ManeuverKind::stop ? 0.0 : std::fabs(T - nominal_T));
+                double v_goal = target_v;
+                if (req.speed_limit_mps > 0 && cfg.kind == ManeuverKind::keep_velocity) v_goal = std::min(v_goal, req.speed_limit_mps);
+                const double mean_v = (sp.x(T) - sp.x(0)) / T;
+                c.efficiency = k.w_efficiency * logistic(cfg.kind == ManeuverKind::stop ? 0.0 : std::fabs(mean_v - v_goal));
+                c.lane_offset = k.w_lane_offset * logistic(sum_off / n / k.expected_offset);
+                c.long_jerk = k.w_long_jerk * logistic(std::sqrt(sum_lj2 / n) / k.expected_jerk);
+                c.lat_jerk = k.w_lat_jerk * logistic(std::sqrt(sum_dj2 / n) / k.expected_jerk);
+                c.long_acc = k.w_long_acc * logistic(std::sqrt(sum_la2 / n) / k.expected_acc);
+                c.lat_acc = k.w_lat_acc * logistic(std::sqrt(sum_da2 / n) / k.expected_acc);
+                c.proximity = std::isinf(min_clear) ? 0.0 : k.w_proximity * logistic(1.0 / std::max(min_clear, 0.1));
+                c.total = c.time + c.efficiency + c.lane_offset + c.long_jerk + c.lat_jerk + c.long_acc + c.lat_acc + c.proximity;
+                if (ws.keep_candidates) ws.candidates.push_back(cand);
+                if (c.total < best) {
+                    best = c.total;
+                    rec.winner = index;
+                    rec.winner_cost = c;
+                    result.trajectory.s = sp;
+                    result.trajectory.d = dp;
+                    result.trajectory.duration = T;
+                }
+            }
+        }
+    }
+    if (rec.winner < 0) {
+        result.trajectory = plan_fallback(st, k.max_long_acc);
+        rec.fallback = true;
+    }
+    return result;
+}
+
+}  // namespace sdv::planner
