@@ -1,0 +1,61 @@
+// Built-in roads, what the DSL's `road` and `junction` blocks lower to, built into the same
+// RoadNetwork as maps.
+//
+// Road: segments (straight, arc) along a reference line that separates the directions. Forward
+// lanes lie to its right and are numbered from the right: lane 1 is the right-most, lane F is
+// next to the reference line; backward lanes are -1 (next to it), -2, ... and run the other
+// way. Names: "<road>.<index>".
+//
+// Junction: two roads crossing at the origin, arms north (+y), east (+x), south, west, each of
+// `arm_length`. Per arm and lane k (1 = right-most): "<j>.<arm>.in[.k]" towards the centre,
+// "<j>.<arm>.out[.k]" away from it (".k" only when there are several lanes); connectors through
+// the junction from each incoming to each other arm's outgoing lane, "<j>.<from>_to_<to>" (for
+// lane k > 1: "<j>.<from>_to_<to>.k"). Stop lines at the end of every incoming lane. With
+// traffic lights: "<j>.ns" controls the north and south incoming lanes, "<j>.ew" east and west.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "runtime/road/road_network.h"
+
+namespace sdv::road {
+
+struct Segment {
+    enum Kind { straight, arc } kind = straight;
+    double length_m = 0;
+    double radius_m = 0;  // arc: > 0 turns left, < 0 right
+};
+
+struct RoadSpec {
+    std::string name;
+    int lanes_forward = 1, lanes_backward = 0;
+    double lane_width_m = 3.5;
+    double speed_limit_mps = 13.89;
+    Vec2 origin{0, 0};
+    double heading_rad = 0;
+    std::vector<Segment> segments;
+};
+
+struct JunctionSpec {
+    std::string name;
+    double arm_length_m = 100;
+    int lanes_per_direction = 1;
+    double lane_width_m = 3.5;
+    double speed_limit_mps = 11.11;
+    enum Control { stop_signs, traffic_lights, none } control = stop_signs;
+};
+
+struct BuildResult {
+    RoadNetwork network;
+    std::vector<std::string> errors;  // empty on success
+    double length = 0;                // road: reference-line length
+};
+
+BuildResult build_road(const RoadSpec& spec);
+BuildResult build_junction(const JunctionSpec& spec);
+
+// Samples the reference line of a built-in road (≤ 0.5 m spacing, exact arcs).
+std::vector<Vec2> road_reference(const RoadSpec& spec);
+
+}  // namespace sdv::road

@@ -1,0 +1,62 @@
+// The reference line of a Frenet frame: a lane centre line (or a route's concatenated centre
+// lines) smoothed by an interpolating cubic spline and resampled densely, with heading and
+// curvature per sample. Positions and headings are interpolated linearly between samples, and
+// the projection solves the orthogonality condition on that same interpolation, so that
+// Cartesian → Frenet → Cartesian round trips are exact to the solver tolerance.
+//
+// Kinematics (T tangent, N normal to the left, κ curvature, κ' = dκ/ds, dT/ds = κN,
+// dN/ds = −κT):
+//   ṙ = ṡ(1 − κd) T + ḋ N
+//   r̈ = [s̈(1 − κd) − κ'ṡ²d − 2κṡḋ] T + [κṡ²(1 − κd) + d̈] N
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "runtime/road/geometry.h"
+
+namespace sdv::road {
+
+struct FrenetState {
+    double s = 0, s_d = 0, s_dd = 0;
+    double d = 0, d_d = 0, d_dd = 0;
+};
+
+struct CartesianState {
+    double x = 0, vx = 0, ax = 0;
+    double y = 0, vy = 0, ay = 0;
+};
+
+class ReferenceLine {
+public:
+    // Fits and resamples the points (duplicates removed). Fails (nullopt, with a reason) for
+    // fewer than two distinct points or non-finite coordinates.
+    static std::optional<ReferenceLine> build(std::span<const Vec2> points, std::string* error = nullptr,
+                                              double spacing = 0.25);
+
+    double length() const { return s_.back(); }
+    Vec2 point(double s) const;
+    double heading(double s) const;
+    double curvature(double s) const;
+
+    // Position only. `hint`: an s near the answer (continuity along routes that come back near
+    // themselves); negative: global search. Points beyond the ends extrapolate along the end
+    // tangents (s < 0 or s > length).
+    FrenetState project(Vec2 p, double hint = -1) const;
+    FrenetState to_frenet(const CartesianState& c, double hint = -1) const;
+    CartesianState to_cartesian(const FrenetState& f) const;
+
+private:
+    struct Interp {
+        Vec2 p;
+        double theta, kappa, dkappa;
+    };
+    Interp at(double s) const;
+    size_t segment(double s) const;
+
+    std::vector<double> s_, x_, y_, theta_, kappa_, dkappa_;
+};
+
+}  // namespace sdv::road

@@ -1,0 +1,97 @@
+#include "runtime/road/road_network.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sdv::road {
+
+double polyline_length(const std::vector<Vec2>& pts) {
+    double l = 0;
+    for (size_t i = 1; i < pts.size(); ++i) l += distance(pts[i - 1], pts[i]);
+    return l;
+}
+
+std::vector<Vec2> offset_polyline(const std::vector<Vec2>& pts, double d) {
+    std::vector<Vec2> out;
+    out.reserve(pts.size());
+    for (size_t i = 0; i < pts.size(); ++i) {
+        // Normal from the neighbouring points (central difference inside, one-sided at ends).
+        const Vec2 a = pts[i > 0 ? i - 1 : i], b = pts[i + 1 < pts.size() ? i + 1 : i];
+        const Vec2 t = b - a;
+        const double n = norm(t);
+        if (n == 0) {
+            out.push_back(pts[i]);
+            continue;
+        }
+        out.push_back(pts[i] + (d / n) * Vec2{-t.y, t.x});
+    }
+    return out;
+}
+
+LaneId RoadNetwork::add_lane(Lane lane) {
+    lane.id = static_cast<LaneId>(lanes_.size());
+    lane.length = polyline_length(lane.centre);
+    lanes_.push_back(std::move(lane));
+    refs_.emplace_back();
+    return lanes_.back().id;
+}
+
+void RoadNetwork::connect(LaneId from, LaneId to) {
+    auto& s = lane_mut(from).successors;
+    if (std::find(s.begin(), s.end(), to) == s.end()) s.push_back(to);
+    auto& p = lane_mut(to).predecessors;
+    if (std::find(p.begin(), p.end(), from) == p.end()) p.push_back(from);
+}
+
+void RoadNetwork::set_neighbours(LaneId right, LaneId left, bool same_direction) {
+    lane_mut(right).left = left;
+    lane_mut(right).left_same_direction = same_direction;
+    if (same_direction) {
+        lane_mut(left).right = right;
+        lane_mut(left).right_same_direction = true;
+    } else {
+        lane_mut(left).left = right;  // opposite lanes are each other's left neighbour
+        lane_mut(left).left_same_direction = false;
+    }
+}
+
+std::optional<LaneId> RoadNetwork::find(const std::string& name) const {
+    for (const auto& l : lanes_) {
+        if (l.name == name) return l.id;
+    }
+    return std::nullopt;
+}
+
+const ReferenceLine& RoadNetwork::reference(LaneId id) const {
+    auto& slot = refs_.at(static_cast<size_t>(id));
+    if (!slot) slot = ReferenceLine::build(lane(id).centre);
+    return *slot;
+}
+
+RoadNetwork::Location RoadNetwork::locate(Vec2 p, std::optional<double> heading) const {
+    Location best;
+    double best_score = INFINITY;
+    for (const auto& l : lanes_) {
+        if (l.centre.size() < 2) continue;
+        // Cheap bound first: distance to the polyline's points.
+        double near = INFINITY;
+        for (const auto& q : l.centre) near = std::min(near, distance(p, q));
+        if (near > best_score + l.length) continue;
+        const auto& ref = reference(l.id);
+        const FrenetState f = ref.project(p);
+        double score = std::fabs(f.d);
+        if (f.s < 0) score += -f.s;
+        if (f.s > ref.length()) score += f.s - ref.length();
+        if (heading) {
+            double dh = std::remainder(*heading - ref.heading(std::clamp(f.s, 0.0, ref.length())), 2 * M_PI);
+            if (std::fabs(dh) > M_PI / 2) score += 100;
+        }
+        if (score < best_score) {
+            best_score = score;
+            best = {l.id, f.s, f.d};
+        }
+    }
+    return best;
+}
+
+}  // namespace sdv::road

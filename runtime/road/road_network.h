@@ -1,0 +1,86 @@
+// The one road-network model that both built-in roads and Lanelet2 maps feed: lanes with
+// centre lines and bounds, direction (a lane's centre line runs in its driving direction),
+// speed limits, successors and predecessors, left/right neighbours (same or opposite
+// direction), stop lines, traffic lights and intersection rules.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "runtime/road/geometry.h"
+#include "runtime/road/reference_line.h"
+
+namespace sdv::road {
+
+using LaneId = int32_t;
+inline constexpr LaneId kNoLane = -1;
+
+enum class Turn { none, straight, left, right };
+
+struct Lane {
+    LaneId id = kNoLane;
+    std::string name;               // built-in: "<road>.<index>"; Lanelet2: the lanelet id
+    std::vector<Vec2> centre;       // in driving direction
+    std::vector<Vec2> left_bound, right_bound;
+    double length = 0.0;            // of the centre line
+    double width = 3.5;             // nominal
+    double speed_limit = 13.89;     // m/s
+    std::vector<LaneId> successors, predecessors;
+    LaneId left = kNoLane, right = kNoLane;
+    bool left_same_direction = true, right_same_direction = true;
+    std::optional<double> stop_line_s;  // along the centre line
+    std::vector<int32_t> traffic_lights;
+    bool all_way_stop = false;
+    int32_t right_of_way = -1;      // index into RoadNetwork::rights_of_way
+    bool in_junction = false;
+    Turn turn = Turn::none;
+};
+
+struct TrafficLight {
+    int32_t id = 0;
+    std::string name;
+    Vec2 position;
+    std::vector<LaneId> lanes;  // lanes whose stop line it controls
+};
+
+struct RightOfWay {
+    std::vector<LaneId> yield, priority;
+};
+
+class RoadNetwork {
+public:
+    LaneId add_lane(Lane lane);  // assigns the id; computes the length
+    void connect(LaneId from, LaneId to);
+    void set_neighbours(LaneId right, LaneId left, bool same_direction);
+
+    const std::vector<Lane>& lanes() const { return lanes_; }
+    const Lane& lane(LaneId id) const { return lanes_.at(static_cast<size_t>(id)); }
+    Lane& lane_mut(LaneId id) { return lanes_.at(static_cast<size_t>(id)); }
+    std::optional<LaneId> find(const std::string& name) const;
+
+    std::vector<TrafficLight> lights;
+    std::vector<RightOfWay> rights_of_way;
+
+    // The lane whose centre line is nearest to p (among lanes whose direction is within 90° of
+    // `heading`, when given), with the position along it.
+    struct Location {
+        LaneId lane = kNoLane;
+        double s = 0, d = 0;
+    };
+    Location locate(Vec2 p, std::optional<double> heading = std::nullopt) const;
+
+    // The reference line of one lane (built on first use and kept).
+    const ReferenceLine& reference(LaneId id) const;
+
+private:
+    std::vector<Lane> lanes_;
+    mutable std::vector<std::optional<ReferenceLine>> refs_;
+};
+
+// Polyline helpers.
+double polyline_length(const std::vector<Vec2>& pts);
+std::vector<Vec2> offset_polyline(const std::vector<Vec2>& pts, double d);  // left positive
+
+}  // namespace sdv::road
