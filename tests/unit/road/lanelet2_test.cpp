@@ -1,0 +1,121 @@
+// The Lanelet2 reader on the reference map and the GeoScenario maps, checked against facts
+// read off the files (counted with an XML parser: 371 lanelet relations in mapping_example.osm,
+// 345 of them road or highway lanelets; 6 traffic-light regulatory elements), and on malformed
+// variants.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+
+#include "runtime/road/lanelet2_reader.h"
+#include "runtime/road/routing.h"
+
+using namespace sdv::road;
+
+namespace {
+
+const std::string kShared = SDV_SHARED_DIR;
+
+LaneId id(const RoadNetwork& net, const std::string& name) {
+    auto l = net.find(name);
+    REQUIRE_MESSAGE(l.has_value(), "no lanelet " << name);
+    return *l;
+}
+
+}  // namespace
+
+TEST_CASE("mapping_example.osm: lanelets, traffic lights, stop lines") {
+    auto r = load_lanelet2(kShared + "/data/lanelet2/mapping_example.osm");
+    REQUIRE_MESSAGE(r.errors.empty(), r.errors.front());
+    REQUIRE(r.network);
+    CHECK(r.lanelets == 371);
+    CHECK(r.drivable == 345);
+    CHECK(r.network->lanes().size() == 345);
+    CHECK(r.network->lights.size() == 6);
+    int controlled = 0, stop_lines = 0;
+    for (const auto& l : r.network->lanes()) {
+        controlled += !l.traffic_lights.empty();
+        stop_lines += l.stop_line_s.has_value();
+    }
+    CHECK(controlled > 0);
+    CHECK(stop_lines >= controlled);
+    for (const auto& tl : r.network->lights) CHECK(!tl.lanes.empty());
+    CHECK(r.network->rights_of_way.size() == 2);
+}
+
+TEST_CASE("mapping_example.osm: routing and neighbours") {
+    auto r = load_lanelet2(kShared + "/data/lanelet2/mapping_example.osm");
+    REQUIRE(r.network);
+    const RoadNetwork& net = *r.network;
+    // A chain of successors found in the file: their bounds end where the next begin.
+    const LaneId a = id(net, "43672"), b = id(net, "43685"), c = id(net, "43694");
+    CHECK(net.lane(a).successors == std::vector<LaneId>{b});
+    const Route route = shortest_route(net, a, c);
+    REQUIRE(route.steps.size() == 3);
+    CHECK(route.steps[1].lane == b);
+    // Lanelet 44964's right bound is lanelet 44962's left bound, drawn the same way.
+    const LaneId l = id(net, "44962"), n = id(net, "44964");
+    CHECK(net.lane(l).left == n);
+    CHECK(net.lane(l).left_same_direction);
+    CHECK(net.lane(n).right == l);
+}
+
+TEST_CASE("the GeoScenario maps load") {
+    for (const char* m : {"ll2_mapping_example.osm", "lanelet2_university_weber_alt.osm", "ll2_firetower_4waystop.osm"}) {
+        auto r = load_lanelet2(kShared + "/data/geoscenario/maps/" + m);
+        CHECK_MESSAGE(r.errors.empty(), m << ": " << (r.errors.empty() ? "" : r.errors.front()));
+        CHECK(r.network.has_value());
+    }
+    auto fire = load_lanelet2(kShared + "/data/geoscenario/maps/ll2_firetower_4waystop.osm");
+    REQUIRE(fire.network);
+    CHECK(fire.drivable == 32);
+    CHECK(std::any_of(fire.network->lanes().begin(), fire.network->lanes().end(),
+                      [](const Lane& l) { return l.all_way_stop; }));
+    auto weber = load_lanelet2(kShared + "/data/geoscenario/maps/lanelet2_university_weber_alt.osm");
+    REQUIRE(weber.network);
+    CHECK(weber.network->lights.size() == 8);
+}
+
+namespace {
+
+std::string osm(const std::string& body) {
+    return "<?xml version='1.0'?><osm version='0.6'>"
+           "<node id='1' lat='49.0' lon='8.0'/><node id='2' lat='49.0' lon='8.001'/>"
+           "<node id='3' lat='49.00003' lon='8.0'/><node id='4' lat='49.00003' lon='8.001'/>"
+           "<way id='10'><nd ref='3'/><nd ref='4'/></way><way id='11'><nd ref='1'/><nd ref='2'/></way>" +
+           body + "</osm>";
+}
+
+}  // namespace
+
+TEST_CASE("malformed maps give errors naming the element") {
+    auto ok = parse_lanelet2(osm("<relation id='100'><member type='way' ref='10' role='left'/>"
+                                 "<member type='way' ref='11' role='right'/><tag k='type' v='lanelet'/></relation>"));
+    CHECK(ok.errors.empty());
+    REQUIRE(ok.network);
+    CHECK(ok.network->lane(0).length == doctest::Approx(73).epsilon(0.02));  // 0.001° of longitude at 49° N
+    CHECK(ok.network->lane(0).width == doctest::Approx(3.34).epsilon(0.02));
+
+    auto missing_node = parse_lanelet2(osm("<way id='12'><nd ref='99'/></way>"));
+    REQUIRE(!missing_node.errors.empty());
+    CHECK(missing_node.errors[0] == "way 12: refers to missing node 99");
+
+    auto missing_way = parse_lanelet2(osm("<relation id='101'><member type='way' ref='10' role='left'/>"
+                                          "<member type='way' ref='77' role='right'/><tag k='type' v='lanelet'/></relation>"));
+    REQUIRE(!missing_way.errors.empty());
+    CHECK(missing_way.errors[0] == "lanelet 101: refers to missing way 77");
+
+    auto degenerate = parse_lanelet2(osm("<way id='13'><nd ref='1'/></way><relation id='102'>"
+                                         "<member type='way' ref='10' role='left'/><member type='way' ref='13' role='right'/>"
+                                         "<tag k='type' v='lanelet'/></relation>"));
+    REQUIRE(!degenerate.errors.empty());
+    CHECK(degenerate.errors[0].rfind("lanelet 102: degenerate right bound", 0) == 0);
+
+    auto bad_role = parse_lanelet2(osm("<relation id='103'><member type='way' ref='10' role='sideways'/>"
+                                       "<tag k='type' v='regulatory_element'/><tag k='subtype' v='traffic_light'/></relation>"));
+    REQUIRE(!bad_role.errors.empty());
+    CHECK(bad_role.errors[0] == "regulatory element 103: unknown member role 'sideways'");
+
+    CHECK(!parse_lanelet2("<osm><node").errors.empty());
+    CHECK(!parse_lanelet2("").errors.empty());
+    CHECK(load_lanelet2("/no/such/map.osm").errors[0] == "cannot read map file '/no/such/map.osm'");
+}
