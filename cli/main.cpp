@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <optional>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -16,6 +17,10 @@
 #include "compiler/sema/compile.h"
 #include "compiler/syntax/parser.h"
 #include "runtime/catalog/catalog.h"
+#include "runtime/io/outputs.h"
+#include "runtime/sim/simulation.h"
+
+#include <unistd.h>
 
 namespace {
 
@@ -177,6 +182,91 @@ int cmd_compile(const std::string& file, const std::string& out, const std::stri
     return kOk;
 }
 
+struct RunArgs {
+    std::string file, out, scenario;
+    std::optional<uint64_t> seed;
+    int threads = 1;
+    bool trace = false, realtime = false;
+};
+
+int cmd_run(const RunArgs& args, const Common& c, const WarningFlags& w) {
+    std::optional<ir::Program> program;
+    std::ifstream in(args.file, std::ios::binary);
+    if (!in) {
+        std::cerr << "sdv: error: cannot read '" << args.file << "'\n";
+        return kFailure;
+    }
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string text = ss.str();
+    const bool is_ir = args.file.size() > 6 && args.file.compare(args.file.size() - 6, 6, ".sdvir") == 0;
+    if (is_ir) {
+        auto r = ir::read_ir(text);
+        if (!r.program) {
+            std::cerr << args.file << ": error: " << r.error << "\n";
+            return kFailure;
+        }
+        program = std::move(r.program);
+    } else {
+        diag::SourceManager sm;
+        diag::DiagnosticEngine diags(sm);
+        diags.set_policy(w.policy);
+        compiler::CompileOptions opts{c.import_dirs};
+        auto result = compiler::compile_source(args.file, text, sm, diags, opts);
+        if (report(diags, sm, c) || !result.program) return kFailure;
+        program = std::move(result.program);
+    }
+    if (program->scenarios.empty()) {
+        std::cerr << "sdv: error: '" << args.file << "' has no scenario to run\n";
+        return kFailure;
+    }
+    int index = 0;
+    if (!args.scenario.empty()) {
+        index = -1;
+        for (size_t i = 0; i < program->scenarios.size(); ++i) {
+            if (program->scenarios[i].name == args.scenario) index = static_cast<int>(i);
+        }
+        if (index < 0) {
+            std::cerr << "sdv: error: no scenario '" << args.scenario << "' in '" << args.file << "'\n";
+            return kFailure;
+        }
+    } else if (program->scenarios.size() > 1) {
+        std::cerr << "sdv: error: '" << args.file << "' has several scenarios; choose one with --scenario\n";
+        return kUsage;
+    }
+    const ir::Scenario& sc = program->scenarios[static_cast<size_t>(index)];
+    sim::RunOptions opts;
+    opts.seed = args.seed;
+    opts.threads = args.threads;
+    opts.trace = args.trace;
+    opts.realtime = args.realtime;
+    const bool tty = isatty(STDERR_FILENO) != 0;
+    if (tty) {
+        opts.progress = [&](double f) {
+            std::fprintf(stderr, "\r%s: %3.0f%%", sc.name.c_str(), 100 * f);
+            std::fflush(stderr);
+        };
+    }
+    sim::RunResult r = sim::simulate(*program, index, opts);
+    if (tty) std::fprintf(stderr, "\r\033[K");
+    if (!r.error.empty()) {
+        std::cerr << r.error << "\n";
+        return kFailure;
+    }
+    io::RunInfo info;
+    info.ir_hash = ir::program_hash(*program);
+    info.seed = args.seed.value_or(sc.seed);
+    info.trace = args.trace;
+    info.threads = args.threads;
+    const std::string dir = args.out.empty() ? "out/" + sc.name : args.out;
+    if (auto e = io::write_outputs(dir, *program, index, r, info); !e.empty()) {
+        std::cerr << "sdv: error: " << e << "\n";
+        return kFailure;
+    }
+    std::cout << io::report(*program, index, r) << "outputs in " << dir << "\n";
+    return r.passed() ? kOk : kFailure;
+}
+
 int cmd_catalog(const std::string& format) {
     if (format == "json") {
         std::cout << catalog::to_json().dump(2) << "\n";
@@ -230,6 +320,20 @@ int run(int argc, char** argv) {
     cat->add_option("--format", catalog_format, "text, json or markdown")
         ->check(CLI::IsMember({"text", "json", "markdown"}));
 
+    RunArgs run_args;
+    uint64_t seed_value = 0;
+    auto* run_cmd = app.add_subcommand("run", "simulate a scenario (.sdv or .sdvir) headless; outputs in -o DIR; "
+                                              "exit 1 when an expectation fails");
+    run_cmd->add_option("file", run_args.file, ".sdv or .sdvir file")->required();
+    run_cmd->add_option("-o,--output", run_args.out, "output directory (default out/<scenario>)");
+    auto* seed_opt = run_cmd->add_option("--seed", seed_value, "random seed (overrides the scenario's)");
+    run_cmd->add_option("--threads", run_args.threads, "planning threads (results do not depend on it)")
+        ->check(CLI::Range(1, 256));
+    run_cmd->add_option("--scenario", run_args.scenario, "which scenario of the file");
+    run_cmd->add_flag("--trace", run_args.trace, "write decisions.jsonl (every planning decision)");
+    run_cmd->add_flag("--realtime", run_args.realtime, "pace the run to the wall clock");
+    add_common(run_cmd);
+
     std::string check_file;
     auto* check_ir = app.add_subcommand("check-ir", "validate a .sdvir file (format, version, hash, "
                                                     "structure)");
@@ -254,6 +358,10 @@ int run(int argc, char** argv) {
     if (lint->parsed()) return cmd_lint(lint_files, common, warnings);
     if (compile->parsed()) return cmd_compile(compile_file, compile_out, emit, common, warnings);
     if (cat->parsed()) return cmd_catalog(catalog_format);
+    if (run_cmd->parsed()) {
+        if (seed_opt->count() > 0) run_args.seed = seed_value;
+        return cmd_run(run_args, common, warnings);
+    }
     if (check_ir->parsed()) {
         std::ifstream in(check_file, std::ios::binary);
         if (!in) {

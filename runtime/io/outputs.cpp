@@ -1,0 +1,162 @@
+#include "runtime/io/outputs.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace sdv::io {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// Numbers in outputs are rounded to fixed decimals so that the text is stable.
+Json num(double v, int digits = 4) {
+    if (!std::isfinite(v)) return nullptr;
+    const double k = std::pow(10.0, digits);
+    double r = std::round(v * k) / k;
+    if (r == 0) r = 0;  // no -0
+    return r;
+}
+
+double pct(std::vector<double> v, double p) {
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, static_cast<size_t>(p * static_cast<double>(v.size())))];
+}
+
+}  // namespace
+
+std::string summary_json(const ir::Program& p, int scenario, const sim::RunResult& r, const RunInfo& info) {
+    const ir::Scenario& sc = p.scenarios.at(static_cast<size_t>(scenario));
+    Json j;
+    j["scenario"] = sc.name;
+    j["ir_hash"] = info.ir_hash;
+    j["seed"] = info.seed;
+    j["traffic_rate"] = sc.traffic_rate;
+    j["planning_rate"] = sc.planning_rate;
+    j["planning_latency"] = sc.planning_latency >= 0 ? sc.planning_latency : 1.0 / sc.planning_rate;
+    j["duration"] = num(r.duration);
+    j["ticks"] = r.ticks;
+    j["passed"] = r.passed();
+    if (!r.error.empty()) j["error"] = r.error;
+    j["expectations"] = Json::array();
+    for (const auto& e : r.expectations) {
+        Json ej;
+        ej["expect"] = e.text;
+        ej["passed"] = e.passed;
+        if (e.value) ej["value"] = num(*e.value);
+        ej["line"] = e.loc.line;
+        j["expectations"].push_back(ej);
+    }
+    j["events"] = Json::array();
+    for (const auto& ev : r.events) {
+        Json ej;
+        ej["time"] = num(ev.time);
+        ej["kind"] = ev.kind;
+        Json vs = Json::array();
+        for (int v : ev.vehicles) vs.push_back(sc.vehicles[static_cast<size_t>(v)].name);
+        ej["vehicles"] = vs;
+        if (ev.kind == "collision") {
+            ej["relative_speed"] = num(ev.relative_speed);
+            ej["zone"] = ev.zone;
+        }
+        j["events"].push_back(ej);
+    }
+    Json pairs = Json::array();
+    for (const auto& m : r.pairs) {
+        Json pj;
+        pj["vehicles"] = {sc.vehicles[static_cast<size_t>(m.a)].name, sc.vehicles[static_cast<size_t>(m.b)].name};
+        pj["min_gap"] = num(m.min_gap);
+        pj["min_ttc"] = num(m.min_ttc);
+        pj["min_headway"] = num(m.min_headway);
+        pairs.push_back(pj);
+    }
+    Json vehicles = Json::array();
+    for (size_t i = 0; i < r.vehicles.size(); ++i) {
+        const auto& m = r.vehicles[i];
+        Json vj;
+        vj["vehicle"] = sc.vehicles[i].name;
+        vj["max_speed"] = num(m.max_speed);
+        vj["max_acc"] = num(m.max_acc);
+        vj["max_jerk"] = num(m.max_jerk);
+        vj["reached_goal"] = m.reached_goal;
+        vj["fallback_used"] = m.fallback_used;
+        vj["plans"] = m.plans;
+        vehicles.push_back(vj);
+    }
+    j["metrics"] = {{"pairs", pairs}, {"vehicles", vehicles}};
+    return j.dump(2) + "\n";
+}
+
+std::string timing_json(const sim::RunResult& r, int threads) {
+    Json j;
+    j["wall_s"] = r.timing.wall_s;
+    j["real_time_factor"] = r.timing.wall_s > 0 ? r.duration / r.timing.wall_s : 0.0;
+    j["threads"] = threads;
+    const double plans = static_cast<double>(r.timing.plan_us.size());
+    j["plans_per_s"] = r.timing.wall_s > 0 ? plans / r.timing.wall_s : 0.0;
+    j["candidates_per_s"] = r.timing.wall_s > 0 ? static_cast<double>(r.timing.candidates) / r.timing.wall_s : 0.0;
+    j["tick_us"] = {{"p50", pct(r.timing.tick_us, 0.5)}, {"p90", pct(r.timing.tick_us, 0.9)}, {"p99", pct(r.timing.tick_us, 0.99)},
+                    {"max", pct(r.timing.tick_us, 1.0)}};
+    j["plan_us"] = {{"p50", pct(r.timing.plan_us, 0.5)}, {"p90", pct(r.timing.plan_us, 0.9)}, {"p99", pct(r.timing.plan_us, 0.99)},
+                    {"max", pct(r.timing.plan_us, 1.0)}};
+    return j.dump(2) + "\n";
+}
+
+std::string write_outputs(const std::string& dir, const ir::Program& p, int scenario, const sim::RunResult& r,
+                          const RunInfo& info) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) return "cannot create '" + dir + "': " + ec.message();
+    auto write = [&](const std::string& name, const std::string& text) -> std::string {
+        std::ofstream o(fs::path(dir) / name, std::ios::binary);
+        o << text;
+        return o ? "" : "cannot write '" + (fs::path(dir) / name).string() + "'";
+    };
+    if (auto e = write("trajectories.csv", r.trajectories_csv); !e.empty()) return e;
+    if (auto e = write("summary.json", summary_json(p, scenario, r, info)); !e.empty()) return e;
+    if (auto e = write("timing.json", timing_json(r, info.threads)); !e.empty()) return e;
+    if (info.trace) {
+        if (auto e = write("decisions.jsonl", r.decisions_jsonl); !e.empty()) return e;
+    }
+    return "";
+}
+
+std::string report(const ir::Program& p, int scenario, const sim::RunResult& r) {
+    const ir::Scenario& sc = p.scenarios.at(static_cast<size_t>(scenario));
+    std::ostringstream o;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s: %.1f s simulated in %.3f s (%.0fx real time), %zu plans\n", sc.name.c_str(), r.duration,
+                  r.timing.wall_s, r.timing.wall_s > 0 ? r.duration / r.timing.wall_s : 0.0, r.timing.plan_us.size());
+    o << buf;
+    for (const auto& ev : r.events) {
+        if (ev.kind == "timeout") continue;
+        std::snprintf(buf, sizeof buf, "  %7.2f s  %s", ev.time, ev.kind.c_str());
+        o << buf;
+        for (int v : ev.vehicles) o << " " << sc.vehicles[static_cast<size_t>(v)].name;
+        if (ev.kind == "collision") {
+            std::snprintf(buf, sizeof buf, " (%.1f m/s, %s)", ev.relative_speed, ev.zone.c_str());
+            o << buf;
+        }
+        o << "\n";
+    }
+    for (const auto& e : r.expectations) {
+        o << "  " << (e.passed ? "PASS" : "FAIL") << "  expect " << e.text;
+        if (e.value) {
+            std::snprintf(buf, sizeof buf, "  (value %.3f)", *e.value);
+            o << buf;
+        }
+        o << "\n";
+    }
+    size_t passed = 0;
+    for (const auto& e : r.expectations) passed += e.passed;
+    o << passed << " of " << r.expectations.size() << " expectations hold\n";
+    return o.str();
+}
+
+}  // namespace sdv::io

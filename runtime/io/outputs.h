@@ -1,0 +1,28 @@
+// Writes a run's outputs (SPEC §7) into a directory: trajectories.csv, summary.json (no wall-
+// clock value: identical runs give identical bytes), decisions.jsonl (with --trace) and
+// timing.json (the only file that varies between identical runs).
+#pragma once
+
+#include <string>
+
+#include "compiler/ir/ir.h"
+#include "runtime/sim/simulation.h"
+
+namespace sdv::io {
+
+struct RunInfo {
+    std::string ir_hash;
+    uint64_t seed = 0;
+    bool trace = false;
+    int threads = 1;
+};
+
+std::string summary_json(const ir::Program& p, int scenario, const sim::RunResult& r, const RunInfo& info);
+std::string timing_json(const sim::RunResult& r, int threads);
+// Returns an error message, or "" on success.
+std::string write_outputs(const std::string& dir, const ir::Program& p, int scenario, const sim::RunResult& r,
+                          const RunInfo& info);
+// The short report printed on stdout.
+std::string report(const ir::Program& p, int scenario, const sim::RunResult& r);
+
+}  // namespace sdv::io

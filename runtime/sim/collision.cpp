@@ -1,0 +1,67 @@
+#include "runtime/sim/collision.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sdv::sim {
+
+std::array<Vec2, 4> Box::corners() const {
+    const Vec2 f{std::cos(yaw), std::sin(yaw)}, l{-f.y, f.x};
+    const Vec2 hf = 0.5 * length * f, hl = 0.5 * width * l;
+    return {centre + hf + hl, centre + hf - hl, centre - hf - hl, centre - hf + hl};
+}
+
+bool overlap(const Box& a, const Box& b) {
+    const auto ca = a.corners(), cb = b.corners();
+    for (const Box* box : {&a, &b}) {
+        const Vec2 f{std::cos(box->yaw), std::sin(box->yaw)};
+        for (const Vec2 axis : {f, Vec2{-f.y, f.x}}) {
+            double amin = INFINITY, amax = -INFINITY, bmin = INFINITY, bmax = -INFINITY;
+            for (const Vec2& p : ca) {
+                amin = std::min(amin, road::dot(p, axis));
+                amax = std::max(amax, road::dot(p, axis));
+            }
+            for (const Vec2& p : cb) {
+                bmin = std::min(bmin, road::dot(p, axis));
+                bmax = std::max(bmax, road::dot(p, axis));
+            }
+            if (amax < bmin || bmax < amin) return false;
+        }
+    }
+    return true;
+}
+
+namespace {
+
+double point_segment(Vec2 p, Vec2 a, Vec2 b) {
+    const Vec2 ab = b - a;
+    const double len2 = road::dot(ab, ab);
+    const double t = len2 > 0 ? std::clamp(road::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return road::distance(p, a + t * ab);
+}
+
+}  // namespace
+
+double gap(const Box& a, const Box& b) {
+    if (overlap(a, b)) return 0.0;
+    const auto ca = a.corners(), cb = b.corners();
+    double best = INFINITY;
+    for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 4; ++j) {
+            best = std::min(best, point_segment(ca[static_cast<size_t>(i)], cb[static_cast<size_t>(j)], cb[static_cast<size_t>((j + 1) % 4)]));
+            best = std::min(best, point_segment(cb[static_cast<size_t>(i)], ca[static_cast<size_t>(j)], ca[static_cast<size_t>((j + 1) % 4)]));
+        }
+    }
+    return best;
+}
+
+const char* impact_zone(const Box& a, const Box& b) {
+    const Vec2 f{std::cos(a.yaw), std::sin(a.yaw)};
+    const Vec2 rel = b.centre - a.centre;
+    const double lon = road::dot(rel, f) / std::max(a.length, 1e-9);
+    const double lat = road::cross(f, rel) / std::max(a.width, 1e-9);
+    if (std::fabs(lon) >= std::fabs(lat)) return lon >= 0 ? "front" : "rear";
+    return lat >= 0 ? "left" : "right";
+}
+
+}  // namespace sdv::sim

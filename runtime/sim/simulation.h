@@ -1,0 +1,86 @@
+// The lockstep simulation of one scenario (SPEC §3.1–3.3, §3.9–3.10). Traffic advances in fixed
+// steps (traffic rate, default 30 Hz). Each SDV plans at the planning rate, staggered by
+// vehicle: from the snapshot at t0 it predicts its own state at t0 + latency along its current
+// plan, projects every perceived vehicle into its Frenet frame (constant velocity), ticks its
+// behavior tree, plans the selected maneuver and publishes the plan to start at t0 + latency.
+// All SDVs due at a tick read the same immutable snapshot, so their planning runs in parallel
+// threads; results are applied in vehicle order. Nothing reads the wall clock: a run is a pure
+// function of (IR, seed).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "compiler/ir/ir.h"
+
+namespace sdv::sim {
+
+struct RunOptions {
+    std::optional<uint64_t> seed;  // overrides the scenario's
+    int threads = 1;
+    bool trace = false;             // decisions.jsonl
+    bool realtime = false;          // pace to the wall clock (never changes the states)
+    std::function<void(double fraction)> progress;
+};
+
+struct Event {
+    double time = 0;
+    std::string kind;  // collision, goal_reached, goal_overshot, fallback, timeout
+    std::vector<int> vehicles;
+    double relative_speed = 0;
+    std::string zone;
+};
+
+struct PairMetrics {
+    int a = 0, b = 0;
+    double min_gap = INFINITY, min_ttc = INFINITY, min_headway = INFINITY;
+};
+
+struct VehicleMetrics {
+    double max_jerk = 0, max_acc = 0, max_speed = 0;
+    bool reached_goal = false;
+    bool fallback_used = false;
+    int plans = 0;
+};
+
+struct ExpectResult {
+    std::string text;
+    bool passed = false;
+    std::optional<double> value;  // the measured quantity of a comparison
+    ir::SourceLoc loc;
+};
+
+struct Timing {
+    double wall_s = 0;
+    std::vector<double> tick_us, plan_us;
+    long long candidates = 0;
+};
+
+struct RunResult {
+    std::string error;  // a runtime error (vehicle off the road, unreachable goal), with location
+    std::string scenario;
+    int ticks = 0;
+    double duration = 0;
+    bool timed_out = false;
+    std::vector<Event> events;
+    std::vector<PairMetrics> pairs;
+    std::vector<VehicleMetrics> vehicles;
+    std::vector<ExpectResult> expectations;
+    std::string trajectories_csv;
+    std::string decisions_jsonl;
+    Timing timing;
+    bool passed() const;
+};
+
+class Simulation;
+
+// Builds the world (roads, vehicles, trees) of one scenario and runs it. `files` are the IR's
+// source file names, used to locate runtime errors.
+RunResult simulate(const ir::Program& program, int scenario, const RunOptions& options);
+
+}  // namespace sdv::sim
