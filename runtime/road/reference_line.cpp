@@ -140,13 +140,28 @@ double ReferenceLine::curvature(double s) const { return at(s).kappa; }
 
 FrenetState ReferenceLine::project(Vec2 p, double hint) const {
     // 1. the nearest sample (in a window around the hint, else globally);
-    size_t lo = 0, hi = s_.size() - 1;
+    auto d2_at = [&](size_t i) {
+        const double dx = p.x - x_[i], dy = p.y - y_[i];
+        return dx * dx + dy * dy;
+    };
+    size_t centre = 0;
     if (hint >= 0) {
-        const size_t h = segment(hint);
-        constexpr size_t kWindow = 200;  // samples: 50 m at 0.25 m spacing
-        lo = h > kWindow ? h - kWindow : 0;
-        hi = std::min(s_.size() - 1, h + kWindow);
+        centre = segment(hint);
+    } else {
+        // Coarse to fine: every 16th sample (4 m at the default spacing), then the neighbourhood.
+        constexpr size_t kStride = 16;
+        double best_coarse = INFINITY;
+        for (size_t i = 0; i < s_.size(); i += kStride) {
+            if (const double d2 = d2_at(i); d2 < best_coarse) {
+                best_coarse = d2;
+                centre = i;
+            }
+        }
+        if (const double d2 = d2_at(s_.size() - 1); d2 < best_coarse) centre = s_.size() - 1;
     }
+    constexpr size_t kWindow = 48;  // samples: 12 m at 0.25 m spacing
+    const size_t lo = centre > kWindow ? centre - kWindow : 0;
+    const size_t hi = std::min(s_.size() - 1, centre + kWindow);
     size_t best = lo;
     double best_d2 = INFINITY;
     for (size_t i = lo; i <= hi; ++i) {

@@ -85,6 +85,7 @@ struct Agent {
     std::vector<LaneId> path;
     std::vector<double> path_start;  // s where each path lane starts on `ref`
     std::shared_ptr<const road::ReferenceLine> ref;
+    double ref_s = -1;  // last projection on `ref` (search hint)
     std::optional<ActivePlan> plan, pending;
     std::vector<road::RouteStep> route;
     LaneId goal_lane = kNoLane;
@@ -715,7 +716,10 @@ void World::plan_agent(Agent& a, double t0) {
     if (a.ref && a.lane != kNoLane) {
         const auto probe = a.ref->project({a.x, a.y});
         if (probe.s > a.ref->length() - 120 || std::fabs(probe.d) > 6) {
-            if (auto r = build_path(a, a.lane)) a.ref = r;
+            if (auto r = build_path(a, a.lane)) {
+                a.ref = r;
+                a.ref_s = -1;
+            }
         }
     }
     ctx.view();
@@ -725,6 +729,7 @@ void World::plan_agent(Agent& a, double t0) {
         // A lane change / cut-in completed: switch to the new lane's frame, tick once more.
         if (auto r = build_path(a, a.target_lane)) {
             a.ref = r;
+            a.ref_s = -1;
             a.lane = a.target_lane;
         }
         a.target_lane = kNoLane;
@@ -899,10 +904,15 @@ RunResult World::run() {
                 }
                 const planner::FrenetState f = a.plan->traj.at(t - a.plan->start);
                 place(a, a.plan->ref->to_cartesian({f.s, f.s_d, f.s_dd, f.d, f.d_d, f.d_dd}));
-                // Current lane: the path lane under the vehicle.
-                const auto probe = a.ref->project({a.x, a.y});
+                // Current lane: the path lane under the vehicle; lane coordinates from the path.
+                const auto probe = a.ref->project({a.x, a.y}, std::max(0.0, a.ref_s));
+                a.ref_s = probe.s;
                 for (size_t i = 0; i < a.path.size(); ++i) {
-                    if (probe.s + 1e-9 >= a.path_start[i]) a.lane = a.path[i];
+                    if (probe.s + 1e-9 >= a.path_start[i]) {
+                        a.lane = a.path[i];
+                        a.lane_s = probe.s - a.path_start[i];
+                        a.lane_d = probe.d;
+                    }
                 }
             } else if (a.v->kind == ir::VehicleKind::trajectory && tick > 0) {
                 const auto& wp = a.v->trajectory;
@@ -930,7 +940,7 @@ RunResult World::run() {
                 const auto loc = net_.locate({a.x, a.y}, a.yaw);
                 a.lane = loc.lane;
             }
-            if (a.lane != kNoLane) {
+            if (a.lane != kNoLane && a.v->kind != ir::VehicleKind::sdv) {
                 const auto f = net_.reference(a.lane).project({a.x, a.y});
                 a.lane_s = f.s;
                 a.lane_d = f.d;
@@ -954,10 +964,15 @@ RunResult World::run() {
         size_t pi = 0;
         for (size_t i = 0; i < n; ++i) {
             for (size_t j = i + 1; j < n; ++j, ++pi) {
-                const double g = gap(boxes[i], boxes[j]);
                 PairMetrics& m = out.pairs[pi];
+                // The exact box distance only when it could matter: a lower bound from the
+                // centres and the half diagonals first.
+                const double centre = road::distance(boxes[i].centre, boxes[j].centre);
+                const double reach = 0.5 * (std::hypot(boxes[i].length, boxes[i].width) + std::hypot(boxes[j].length, boxes[j].width));
+                const bool near = centre - reach < m.min_gap || touching[i][j] || centre <= reach;
+                const double g = near ? gap(boxes[i], boxes[j]) : centre - reach;
                 m.min_gap = std::min(m.min_gap, g);
-                const bool hit = g <= 0;
+                const bool hit = near && g <= 0;
                 if (hit && !touching[i][j]) {
                     const double rel = std::hypot(agents_[i].vx - agents_[j].vx, agents_[i].vy - agents_[j].vy);
                     out.events.push_back({t, "collision", {static_cast<int>(i), static_cast<int>(j)}, rel, impact_zone(boxes[i], boxes[j])});
