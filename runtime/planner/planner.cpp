@@ -5,7 +5,7 @@
 //   follow         leader L at constant speed: s_L(T) = s_L + v_L T;
 //                  s: quintic to s_L(T) − (len_L + len)/2 − max(stop_distance, time_gap·v_L),
 //                  speed v_L, acc 0; if v_L < 1.5 m/s: stop behind it at stop_distance
-//   lane_change    s: quartic keeping the current speed; d to the target lane's centre
+//   lane_change    s: quartic keeping the current speed (at least 2 m/s); d to the target lane's centre
 //   cut_in         target V: s_V(T) + 2·len + delta_s, speed v_V + delta_v, acc delta_a
 //   stop           s: quintic to (stop_s − distance, 0, 0), T = factor · 2Δs / max(ṡ0, 1 m/s)
 //                  (at least 1 s); `now` stops at ṡ0² / (2 · 3 m/s²) ahead
@@ -13,7 +13,7 @@
 //   d: always quintic to (lat, 0, 0) at T.
 // Feasibility at eval_points evenly spaced times in [0, T], first failure recorded:
 //   |s⃛| > max_long_jerk, |d⃛| > max_lat_jerk, |s̈| > max_long_acc, |d̈| > max_lat_acc,
-//   collision (3 circles per vehicle, radius √((len/6)² + (width/2)²), against every
+//   collision (3 circles per vehicle, radius √((len/6)² + (width/2)²) plus a 0.3 m margin, against every
 //   obstacle's constant-velocity prediction), off-lane (own footprint d ± width/2 outside the
 //   current lane; not for lane_change / cut_in), direction (ṡ < −0.01 m/s; not for reverse).
 // Cost = Σ wᵢ · logistic(xᵢ), logistic(x) = 2 / (1 + e^−x) − 1, with
@@ -36,6 +36,10 @@ namespace {
 
 constexpr double kStopSpeed = 1.5;     // m/s: a slower leader is stopped behind
 constexpr double kComfortDecel = 3.0;  // m/s²: for stop(now)
+constexpr double kMinLaneChangeSpeed = 2.0;  // m/s
+// Added to the footprint circles: the circles ignore the heading, which tilts the box during
+// lane changes; the margin keeps the plan clear of the true (oriented) box.
+constexpr double kCollisionMargin = 0.3;  // m
 
 double logistic(double x) { return 2.0 / (1.0 + std::exp(-x)) - 1.0; }
 
@@ -79,13 +83,16 @@ FrenetState Trajectory::at(double t) const {
 }
 
 Trajectory plan_fallback(const FrenetState& start, double max_decel) {
+    // A quintic stop over T = 2|v| / a covers v·T/2 = v²/a; its peak deceleration is
+    // 1.875·|v|/T ≈ 0.94·a, within the limit. d comes to rest where it is.
     Trajectory tr;
     const double v = start.s_d;
     const double decel = std::max(0.1, max_decel);
-    const double T = std::max(std::fabs(v) / decel, 0.1);
-    tr.s = Poly::quadratic(start.s, v, v >= 0 ? -decel : decel);
-    if (std::fabs(v) < 1e-9) tr.s = Poly::quadratic(start.s, 0.0, 0.0);
-    tr.d = Poly::quintic(start.d, start.d_d, start.d_dd, start.d, 0.0, 0.0, std::max(T, 1.0));
+    const double T = std::max(2.0 * std::fabs(v) / decel, 0.5);
+    const double a0 = std::clamp(start.s_dd, -decel, decel);
+    tr.s = std::fabs(v) < 1e-3 ? Poly::quadratic(start.s, 0.0, 0.0)
+                               : Poly::quintic(start.s, v, a0, start.s + 0.5 * v * T, 0.0, 0.0, T);
+    tr.d = Poly::quintic(start.d, start.d_d, start.d_dd, start.d + 0.5 * start.d_d * T, 0.0, 0.0, T);
     tr.duration = T;
     return tr;
 }
@@ -167,7 +174,9 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
                         sp = Poly::quartic(st.s, st.s_d, st.s_dd, target_v, 0.0, T);
                         break;
                     case ManeuverKind::lane_change:
-                        target_v = st.s_d;
+                        // A car cannot move sideways standing still: change lanes at walking
+                        // pace at least.
+                        target_v = std::max(st.s_d, kMinLaneChangeSpeed);
                         sp = Poly::quartic(st.s, st.s_d, st.s_dd, target_v, 0.0, T);
                         break;
                     case ManeuverKind::follow: {
@@ -245,7 +254,7 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
                         for (double oa : own.offset) {
                             for (double ob : of.offset) {
                                 const double ds = (s + oa) - (os + ob), dd = d - od;
-                                clear = std::min(clear, std::sqrt(ds * ds + dd * dd) - own.radius - of.radius);
+                                clear = std::min(clear, std::sqrt(ds * ds + dd * dd) - own.radius - of.radius - kCollisionMargin);
                             }
                         }
                         min_clear = std::min(min_clear, clear);

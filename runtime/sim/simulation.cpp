@@ -152,7 +152,7 @@ public:
     std::string light_state(int32_t light, double t) const;
     std::shared_ptr<const road::ReferenceLine> build_path(Agent& a, LaneId from);
     void plan_agent(Agent& a, double t0);
-    void place(Agent& a, const road::CartesianState& c);
+    void place(Agent& a, const road::CartesianState& c, std::optional<double> lane_heading = std::nullopt);
     std::string init_position(Agent& a, const ir::Position& pos, LaneId& lane, double& s);
 };
 
@@ -225,7 +225,7 @@ std::shared_ptr<const road::ReferenceLine> World::build_path(Agent& a, LaneId fr
     return std::make_shared<const road::ReferenceLine>(std::move(*ref));
 }
 
-void World::place(Agent& a, const road::CartesianState& c) {
+void World::place(Agent& a, const road::CartesianState& c, std::optional<double> lane_heading) {
     a.x = c.x;
     a.y = c.y;
     a.vx = c.vx;
@@ -233,7 +233,17 @@ void World::place(Agent& a, const road::CartesianState& c) {
     a.ax = c.ax;
     a.ay = c.ay;
     const double v = std::hypot(c.vx, c.vy);
-    if (v > 0.05) a.yaw = std::atan2(c.vy, c.vx);
+    if (v > 0.05) {
+        a.yaw = std::atan2(c.vy, c.vx);
+        // A car's heading stays within a steering angle's reach of its lane, however slowly it
+        // moves sideways in the Frenet plan (reverse: the opposite direction).
+        if (lane_heading) {
+            constexpr double kMaxRelative = 0.5;  // rad
+            const double fwd = *lane_heading + ((a.vx * std::cos(*lane_heading) + a.vy * std::sin(*lane_heading)) < 0 ? M_PI : 0.0);
+            const double rel = std::remainder(a.yaw - fwd, 2 * M_PI);
+            a.yaw = fwd + std::clamp(rel, -kMaxRelative, kMaxRelative);
+        }
+    }
     // Signed speed: negative when moving against the heading (reverse).
     const double along = c.vx * std::cos(a.yaw) + c.vy * std::sin(a.yaw);
     a.speed = along >= 0 ? v : -v;
@@ -903,7 +913,7 @@ RunResult World::run() {
                     a.pending.reset();
                 }
                 const planner::FrenetState f = a.plan->traj.at(t - a.plan->start);
-                place(a, a.plan->ref->to_cartesian({f.s, f.s_d, f.s_dd, f.d, f.d_d, f.d_dd}));
+                place(a, a.plan->ref->to_cartesian({f.s, f.s_d, f.s_dd, f.d, f.d_d, f.d_dd}), a.plan->ref->heading(f.s));
                 // Current lane: the path lane under the vehicle; lane coordinates from the path.
                 const auto probe = a.ref->project({a.x, a.y}, std::max(0.0, a.ref_s));
                 a.ref_s = probe.s;

@@ -248,8 +248,13 @@ TEST_CASE("nothing feasible: emergency brake fallback") {
     CHECK(r.record.fallback);
     CHECK(r.record.feasible == 0);
     const double T = r.trajectory.duration;
-    CHECK(T == doctest::Approx(10.0 / cfg.common.max_long_acc));
+    CHECK(T == doctest::Approx(2 * 10.0 / cfg.common.max_long_acc));
     CHECK(r.trajectory.at(T).s_d == doctest::Approx(0).epsilon(1e-9));
+    CHECK(r.trajectory.at(T + 10).s == doctest::Approx(r.trajectory.at(T).s));  // stays stopped
+    for (double t = 0; t <= T; t += T / 50) {
+        CHECK(std::fabs(r.trajectory.s.a(t)) <= cfg.common.max_long_acc + 1e-9);  // within the limit
+        CHECK(r.trajectory.s.v(t) >= -1e-9);                                     // never backwards
+    }
 }
 
 TEST_CASE("the cheapest feasible candidate wins; the record adds up") {
