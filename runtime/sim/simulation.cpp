@@ -433,7 +433,16 @@ const ir::ParamValue* Context::param(const ir::Node& n, const char* name) const 
 
 double Context::num(const ir::Node& n, const char* name) const {
     const auto* p = param(n, name);
-    return p != nullptr ? p->number.value : NAN;
+    if (p == nullptr) return NAN;
+    // A condition threshold given as a range is one draw per vehicle, node and run: a driver's
+    // acceptance gap varies between drivers, not from tick to tick.
+    if (n.kind == ir::NodeKind::condition && p->number.hi > p->number.lo) {
+        const auto node = static_cast<uint32_t>(&n - a_.tree->instance().nodes.data());
+        const auto slot = static_cast<uint32_t>(p - n.params.data());
+        planner::RandomStream rng(w_.seed_, static_cast<uint32_t>(a_.index), 0x80000000u | (node << 8) | slot);
+        return p->number.lo + (p->number.hi - p->number.lo) * rng.uniform();
+    }
+    return p->number.value;
 }
 
 const Seen* Context::nearest(int band, int where) const {
