@@ -13,7 +13,8 @@
 //   d: always quintic to (lat, 0, 0) at T.
 // Feasibility at eval_points evenly spaced times in [0, T], first failure recorded:
 //   |s⃛| > max_long_jerk, |d⃛| > max_lat_jerk, |s̈| > max_long_acc, |d̈| > max_lat_acc,
-//   collision (3 circles per vehicle, radius √((len/6)² + (width/2)²) plus a 0.3 m margin, against every
+//   collision (n = ⌈len/width⌉ circles per vehicle, radius √((len/2n)² + (width/2)²), plus a 0.3 m
+//   margin, against every
 //   obstacle's constant-velocity prediction), off-lane (own footprint d ± width/2 outside the
 //   current lane; not for lane_change / cut_in), direction (ṡ < −0.01 m/s; not for reverse).
 // Cost = Σ wᵢ · logistic(xᵢ), logistic(x) = 2 / (1 + e^−x) − 1, with
@@ -43,14 +44,21 @@ constexpr double kCollisionMargin = 0.3;  // m
 
 double logistic(double x) { return 2.0 / (1.0 + std::exp(-x)) - 1.0; }
 
+// A footprint as n equal circles along the length (n = ⌈length / width⌉, 1..8): each covers
+// a length/n slice of the box, so long vehicles are not inflated sideways.
 struct Footprint {
-    double offset[3];
+    double offset[8];
+    int n;
     double radius;
 };
 
 Footprint footprint(double length, double width) {
-    const double third = length / 3.0;
-    return {{-third, 0.0, third}, std::sqrt(length * length / 36.0 + width * width / 4.0)};
+    Footprint f{};
+    f.n = std::clamp(static_cast<int>(std::ceil(length / std::max(width, 0.1))), 1, 8);
+    const double slice = length / f.n;
+    for (int i = 0; i < f.n; ++i) f.offset[i] = -0.5 * length + slice * (i + 0.5);
+    f.radius = std::sqrt(slice * slice / 4.0 + width * width / 4.0);
+    return f;
 }
 
 }  // namespace
@@ -251,9 +259,9 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
                         if (std::fabs(os - s) > reach || std::fabs(od - d) > 6.0) continue;
                         const Footprint of = footprint(o.length_m, o.width_m);
                         double clear = std::numeric_limits<double>::infinity();
-                        for (double oa : own.offset) {
-                            for (double ob : of.offset) {
-                                const double ds = (s + oa) - (os + ob), dd = d - od;
+                        for (int ia = 0; ia < own.n; ++ia) {
+                            for (int ib = 0; ib < of.n; ++ib) {
+                                const double ds = (s + own.offset[ia]) - (os + of.offset[ib]), dd = d - od;
                                 clear = std::min(clear, std::sqrt(ds * ds + dd * dd) - own.radius - of.radius - kCollisionMargin);
                             }
                         }

@@ -8,6 +8,7 @@ trap 'rm -rf "$dir"' EXIT
 for ex in following red_light cut_in obstacle; do
     "$sdv" run "$root/examples/$ex.sdv" -o "$dir/$ex" >/dev/null || { echo "FAIL: $ex does not pass"; exit 1; }
 done
+"$sdv" run "$root/tests/scenarios/data/trajectory.sdv" -o "$dir/trajectory" >/dev/null || { echo "FAIL: trajectory.sdv does not pass"; exit 1; }
 python3 - "$dir" <<'PY'
 import csv, json, sys
 d = sys.argv[1]
@@ -50,6 +51,13 @@ for v in ("a", "b"):
     if float(r["x"]) < 250: fail.append(f"{v} did not pass the obstacle")
 s = json.load(open(f"{d}/obstacle/summary.json"))
 if any(e["kind"] == "collision" for e in s["events"]): fail.append("collision in obstacle")
+# Trajectory vehicles interpolate their waypoints linearly; the SDV follows the stopping ego.
+rs = rows("trajectory")
+tr, e, car = at(rs, "truck", 10), at(rs, "e", 15), at(rs, "car", 19)
+print(f"trajectory: truck x={float(tr['x']):.2f} at 10 s, ego x={float(e['x']):.2f} speed {float(e['speed']):.2f} at 15 s, car {car['maneuver']} speed {float(car['speed']):.2f} at 19 s")
+if abs(float(tr["x"]) - 210) > 0.01: fail.append("truck not at its interpolated position")
+if abs(float(e["x"]) - 200) > 0.01 or abs(float(e["speed"])) > 1e-6: fail.append("ego trajectory not holding at 200 m")
+if car["maneuver"] != "follow" or float(car["speed"]) > 1.0: fail.append("car does not stop behind the stopped ego")
 if fail:
     print("FAIL:", "; ".join(fail)); sys.exit(1)
 print("all behaviour checks hold")
