@@ -1,0 +1,78 @@
+#!/usr/bin/env python3
+"""Seeded mutation fuzzing: mutate.py SDV ROOT N. For every example and stdlib file, N mutants
+(byte flips, deletions, duplications, token swaps, truncations, deep nesting) go through `sdv lint`;
+for the IR of each example, N mutants go through `sdv check-ir`. Any exit code other than 0/1, or
+a time-out, is a failure. Deterministic (fixed seed), so a failure reproduces."""
+import pathlib
+import random
+import subprocess
+import sys
+import tempfile
+
+sdv, root, n = sys.argv[1], pathlib.Path(sys.argv[2]), int(sys.argv[3])
+rng = random.Random(20261122)
+TOKENS = [b"{", b"}", b"(", b")", b",", b"=", b"m/s", b"\xc2\xb1", b"samples", b"..", b"tree", b"maneuver",
+          b"1e308", b"-", b"\"", b"#", b"\x00", b"\xff", b"lane", b"subtree", b"not not", b"%"]
+
+
+def mutate(data: bytes) -> bytes:
+    b = bytearray(data)
+    for _ in range(rng.randint(1, 4)):
+        op = rng.randrange(6)
+        if not b:
+            b += rng.choice(TOKENS)
+            continue
+        i = rng.randrange(len(b))
+        if op == 0:
+            b[i] = rng.randrange(256)
+        elif op == 1:
+            del b[i:i + rng.randint(1, 20)]
+        elif op == 2:
+            j = rng.randrange(len(b))
+            b[i:i] = b[j:j + rng.randint(1, 40)]
+        elif op == 3:
+            b[i:i] = rng.choice(TOKENS)
+        elif op == 4:
+            b = b[:i]
+        else:
+            b[i:i] = b"sequence {" * rng.randint(1, 300)
+    return bytes(b)
+
+
+def run(args, path):
+    try:
+        p = subprocess.run([sdv] + args + [path], capture_output=True, timeout=30)
+    except subprocess.TimeoutExpired:
+        return "timeout"
+    return None if p.returncode in (0, 1) else f"exit {p.returncode}: {p.stderr.decode(errors='replace')[-300:]}"
+
+
+failures = []
+count = 0
+with tempfile.TemporaryDirectory() as tmp:
+    tmp = pathlib.Path(tmp)
+    sources = sorted((root / "examples").glob("*.sdv")) + sorted((root / "stdlib-trees").glob("*.sdv"))
+    for src in sources:
+        data = src.read_bytes()
+        for k in range(n):
+            m = tmp / f"m_{src.stem}_{k}.sdv"
+            m.write_bytes(mutate(data))
+            count += 1
+            if (err := run(["lint"], str(m))):
+                keep = tmp.parent / f"sdv_fuzz_{src.stem}_{k}.sdv"
+                keep.write_bytes(m.read_bytes())
+                failures.append(f"lint {src.name} mutant {k} ({keep}): {err}")
+    for src in sorted((root / "examples").glob("*.sdv")):
+        ir = tmp / f"{src.stem}.sdvir"
+        subprocess.run([sdv, "compile", str(src), "-o", str(ir)], capture_output=True, check=True)
+        data = ir.read_bytes()
+        for k in range(n):
+            m = tmp / f"m_{src.stem}_{k}.sdvir"
+            m.write_bytes(mutate(data))
+            count += 1
+            if (err := run(["check-ir"], str(m))):
+                failures.append(f"check-ir {src.name} mutant {k}: {err}")
+print(f"{count} mutants, {len(failures)} failures")
+for f in failures[:20]:
+    print("FAIL", f)
+sys.exit(1 if failures else 0)
