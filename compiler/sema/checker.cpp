@@ -12,6 +12,7 @@
 #include "compiler/sema/compile.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -1167,6 +1168,18 @@ private:
         return e.num.value;
     }
 
+    // Reads an optional numeric setting into `out`; false when it is present but invalid.
+    bool read_setting(std::map<std::string, const ast::Setting*>& set, const char* key, Dim dim, double lo,
+                      double hi, bool lo_exclusive, double& out) {
+        const ast::Setting* s = set[key];
+        if (s == nullptr) return true;
+        if (auto v = setting_number(*s, 0, dim, lo, hi, lo_exclusive)) {
+            out = *v;
+            return true;
+        }
+        return false;
+    }
+
     // Reports duplicate settings and returns the first occurrence of each key.
     std::map<std::string, const ast::Setting*> settings_map(const std::vector<ast::Setting>& ss,
                                                            const std::vector<std::string>& known,
@@ -1252,14 +1265,8 @@ private:
             sym.ok = false;
         }
         auto set = settings_map(r.settings, {"lane_width", "speed_limit", "origin", "heading"}, where);
-        if (auto* s = set["lane_width"]) {
-            if (auto v = setting_number(*s, 0, Dim::length, 1.0, 10.0, false)) road.lane_width = *v;
-            else sym.ok = false;
-        }
-        if (auto* s = set["speed_limit"]) {
-            if (auto v = setting_number(*s, 0, Dim::speed, 0.0, 100.0, true)) road.speed_limit = *v;
-            else sym.ok = false;
-        }
+        sym.ok = read_setting(set, "lane_width", Dim::length, 1.0, 10.0, false, road.lane_width) && sym.ok;
+        sym.ok = read_setting(set, "speed_limit", Dim::speed, 0.0, 100.0, true, road.speed_limit) && sym.ok;
         if (auto* s = set["origin"]) {
             auto x = setting_number(*s, 0, Dim::length, -1e7, 1e7, false);
             auto y = setting_number(*s, 1, Dim::length, -1e7, 1e7, false);
@@ -1270,10 +1277,7 @@ private:
                 sym.ok = false;
             }
         }
-        if (auto* s = set["heading"]) {
-            if (auto v = setting_number(*s, 0, Dim::angle, -10.0, 10.0, false)) road.heading = *v;
-            else sym.ok = false;
-        }
+        sym.ok = read_setting(set, "heading", Dim::angle, -10.0, 10.0, false, road.heading) && sym.ok;
         if (r.segments.empty()) {
             auto* d = error("E0401", r.name.range, where + " has no segments");
             d->notes.push_back({{}, "add e.g. 'straight 300 m'"});
@@ -1332,18 +1336,9 @@ private:
                 sym.ok = false;
             }
         }
-        if (auto* s = set["lane_width"]) {
-            if (auto v = setting_number(*s, 0, Dim::length, 1.0, 10.0, false)) road.lane_width = *v;
-            else sym.ok = false;
-        }
-        if (auto* s = set["speed_limit"]) {
-            if (auto v = setting_number(*s, 0, Dim::speed, 0.0, 100.0, true)) road.speed_limit = *v;
-            else sym.ok = false;
-        }
-        if (auto* s = set["arm_length"]) {
-            if (auto v = setting_number(*s, 0, Dim::length, 20.0, 10000.0, false)) road.arm_length = *v;
-            else sym.ok = false;
-        }
+        sym.ok = read_setting(set, "lane_width", Dim::length, 1.0, 10.0, false, road.lane_width) && sym.ok;
+        sym.ok = read_setting(set, "speed_limit", Dim::speed, 0.0, 100.0, true, road.speed_limit) && sym.ok;
+        sym.ok = read_setting(set, "arm_length", Dim::length, 20.0, 10000.0, false, road.arm_length) && sym.ok;
         if (auto* s = set["control"]) {
             const std::string c = s->values[0].lo.name.str();
             const std::vector<std::string> choices = {"stop_signs", "traffic_lights", "none"};
@@ -1443,22 +1438,21 @@ private:
             auto* d = error("E0501", s.name.range, where + " has no road");
             d->notes.push_back({{}, "add 'road NAME' naming a road, junction or map"});
         }
-        if (auto* t = set["timeout"]) {
-            if (auto v = setting_number(*t, 0, Dim::time, 0, 86400, true)) sc.timeout = *v;
+        read_setting(set, "timeout", Dim::time, 0, 86400, true, sc.timeout);
+        if (auto* t = set["seed"]) {
+            // Parsed from the text: a double would round seeds above 2^53.
+            const std::string& text = t->values[0].lo.quantity.text;
+            errno = 0;
+            sc.seed = std::strtoull(text.c_str(), nullptr, 10);
+            if (errno == ERANGE) {
+                error("E0301", t->values[0].range, "seed " + text + " is out of range")
+                    ->notes.push_back({{}, "allowed: 0 to 18446744073709551615"});
+            }
         }
-        if (auto* t = set["seed"]) sc.seed = static_cast<uint64_t>(t->values[0].lo.quantity.value);
-        if (auto* t = set["rate traffic"]) {
-            if (auto v = setting_number(*t, 0, Dim::frequency, 1, 1000, false)) sc.traffic_rate = *v;
-        }
-        if (auto* t = set["rate planning"]) {
-            if (auto v = setting_number(*t, 0, Dim::frequency, 0.1, 100, false)) sc.planning_rate = *v;
-        }
-        if (auto* t = set["rate latency"]) {
-            if (auto v = setting_number(*t, 0, Dim::time, 0, 10, false)) sc.planning_latency = *v;
-        }
-        if (auto* t = set["rate sensor_range"]) {
-            if (auto v = setting_number(*t, 0, Dim::length, 1, 10000, true)) sc.sensor_range = *v;
-        }
+        read_setting(set, "rate traffic", Dim::frequency, 1, 1000, false, sc.traffic_rate);
+        read_setting(set, "rate planning", Dim::frequency, 0.1, 100, false, sc.planning_rate);
+        read_setting(set, "rate latency", Dim::time, 0, 10, false, sc.planning_latency);
+        read_setting(set, "rate sensor_range", Dim::length, 1, 10000, true, sc.sensor_range);
         if (ctx.road != nullptr && ctx.road->ok) {
             auto it = std::find_if(program.roads.begin(), program.roads.end(),
                                    [&](const ir::Road& r) { return r.name == ctx.road->name; });
