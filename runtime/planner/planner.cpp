@@ -156,6 +156,10 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
     }
     const double nominal_T = cfg.duration.value;
     const Footprint own = footprint(req.length_m, req.width_m);
+    // Obstacle footprints once per plan, not per candidate and point (reused buffer).
+    thread_local std::vector<Footprint> footprints;
+    footprints.clear();
+    for (const Obstacle& o : req.obstacles) footprints.push_back(footprint(o.length_m, o.width_m));
     const int n_eval = std::max(2, k.eval_points);
 
     double best = std::numeric_limits<double>::infinity();
@@ -252,19 +256,23 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
                     if (cause != RejectCause::count_) break;
                     const double s = sp.x(t), d = dp.x(t);
                     sum_off += std::fabs(d - target_d);
-                    for (const Obstacle& o : req.obstacles) {
+                    for (size_t oi = 0; oi < req.obstacles.size(); ++oi) {
+                        const Obstacle& o = req.obstacles[oi];
                         const double os = o.state.s + o.state.s_d * t;
                         const double od = o.state.d + o.state.d_d * t;
                         const double reach = 0.5 * (req.length_m + o.length_m) + 6.0;
                         if (std::fabs(os - s) > reach || std::fabs(od - d) > 6.0) continue;
-                        const Footprint of = footprint(o.length_m, o.width_m);
-                        double clear = std::numeric_limits<double>::infinity();
+                        const Footprint& of = footprints[oi];
+                        // Closest pair of circles by squared distance; one square root.
+                        const double dd = d - od;
+                        double min_d2 = std::numeric_limits<double>::infinity();
                         for (int ia = 0; ia < own.n; ++ia) {
                             for (int ib = 0; ib < of.n; ++ib) {
-                                const double ds = (s + own.offset[ia]) - (os + of.offset[ib]), dd = d - od;
-                                clear = std::min(clear, std::sqrt(ds * ds + dd * dd) - own.radius - of.radius - kCollisionMargin);
+                                const double ds = (s + own.offset[ia]) - (os + of.offset[ib]);
+                                min_d2 = std::min(min_d2, ds * ds + dd * dd);
                             }
                         }
+                        const double clear = std::sqrt(min_d2) - own.radius - of.radius - kCollisionMargin;
                         min_clear = std::min(min_clear, clear);
                         if (k.collision && clear < 0) {
                             cause = RejectCause::collision;
