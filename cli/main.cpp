@@ -15,6 +15,7 @@
 #include "compiler/diag/render.h"
 #include "compiler/ir/ir_io.h"
 #include "compiler/sema/compile.h"
+#include "compiler/syntax/format.h"
 #include "compiler/syntax/parser.h"
 #include "runtime/catalog/catalog.h"
 #include "runtime/io/outputs.h"
@@ -267,6 +268,47 @@ int cmd_run(const RunArgs& args, const Common& c, const WarningFlags& w) {
     return r.passed() ? kOk : kFailure;
 }
 
+// Formats files in place (default), to stdout, or only checks them (exit 1 when one would change).
+int cmd_fmt(const std::vector<std::string>& files, bool check, bool to_stdout, const Common& c) {
+    bool changed = false, failed = false;
+    for (const auto& f : files) {
+        std::ifstream in(f, std::ios::binary);
+        if (!in) {
+            std::cerr << "sdv: error: cannot read '" << f << "'\n";
+            failed = true;
+            continue;
+        }
+        std::stringstream ss;
+        ss << in.rdbuf();
+        const std::string original = ss.str();
+        diag::SourceManager sm;
+        diag::DiagnosticEngine diags(sm);
+        const auto id = sm.add_file(f, original);
+        auto formatted = compiler::syntax::format(id, sm, diags);
+        if (!formatted) {
+            report(diags, sm, c);
+            failed = true;
+            continue;
+        }
+        if (to_stdout) {
+            std::cout << *formatted;
+        } else if (*formatted != original) {
+            changed = true;
+            if (check) {
+                std::cerr << f << ": not formatted (run sdv fmt " << f << ")\n";
+            } else {
+                std::ofstream o(f, std::ios::binary);
+                o << *formatted;
+                if (!o) {
+                    std::cerr << "sdv: error: cannot write '" << f << "'\n";
+                    failed = true;
+                }
+            }
+        }
+    }
+    return failed || (check && changed) ? kFailure : kOk;
+}
+
 int cmd_catalog(const std::string& format) {
     if (format == "json") {
         std::cout << catalog::to_json().dump(2) << "\n";
@@ -334,6 +376,14 @@ int run(int argc, char** argv) {
     run_cmd->add_flag("--realtime", run_args.realtime, "pace the run to the wall clock");
     add_common(run_cmd);
 
+    std::vector<std::string> fmt_files;
+    bool fmt_check = false, fmt_stdout = false;
+    auto* fmt = app.add_subcommand("fmt", "rewrite .sdv files in the canonical layout (comments kept)");
+    fmt->add_option("files", fmt_files, ".sdv files")->required();
+    fmt->add_flag("--check", fmt_check, "change nothing; exit 1 when a file is not formatted");
+    fmt->add_flag("--stdout", fmt_stdout, "print the formatted text instead of rewriting the file");
+    add_common(fmt);
+
     std::string check_file;
     auto* check_ir = app.add_subcommand("check-ir", "validate a .sdvir file (format, version, hash, "
                                                     "structure)");
@@ -358,6 +408,7 @@ int run(int argc, char** argv) {
     if (lint->parsed()) return cmd_lint(lint_files, common, warnings);
     if (compile->parsed()) return cmd_compile(compile_file, compile_out, emit, common, warnings);
     if (cat->parsed()) return cmd_catalog(catalog_format);
+    if (fmt->parsed()) return cmd_fmt(fmt_files, fmt_check, fmt_stdout, common);
     if (run_cmd->parsed()) {
         if (seed_opt->count() > 0) run_args.seed = seed_value;
         return cmd_run(run_args, common, warnings);

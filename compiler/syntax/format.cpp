@@ -1,0 +1,207 @@
+// The formatter walks the token stream of a file that parsed, with two facts taken from the
+// parse tree: which tokens start a statement (they begin a new line) and which tokens belong to
+// top-level declarations (blank lines between them). Hidden-channel comments are re-attached
+// to the token they precede or follow.
+#include "compiler/syntax/format.h"
+
+#include <SdvLexer.h>
+#include <SdvParser.h>
+#include <antlr4-runtime.h>
+
+#include <set>
+#include <vector>
+
+#include "compiler/syntax/parser.h"
+
+namespace sdv::compiler::syntax {
+namespace {
+
+using antlr4::Token;
+using sdv_antlr::SdvLexer;
+using sdv_antlr::SdvParser;
+
+// Collects the start tokens of statements and of top-level items.
+void mark(antlr4::tree::ParseTree* t, std::set<size_t>& starts, std::set<size_t>& items) {
+    auto* ctx = dynamic_cast<antlr4::ParserRuleContext*>(t);
+    if (ctx == nullptr) return;
+    const bool statement = dynamic_cast<SdvParser::ItemContext*>(ctx) || dynamic_cast<SdvParser::RoadStmtContext*>(ctx) ||
+                           dynamic_cast<SdvParser::JunctionStmtContext*>(ctx) || dynamic_cast<SdvParser::MapStmtContext*>(ctx) ||
+                           dynamic_cast<SdvParser::ScenarioStmtContext*>(ctx) || dynamic_cast<SdvParser::VehicleStmtContext*>(ctx) ||
+                           dynamic_cast<SdvParser::LightStmtContext*>(ctx) || dynamic_cast<SdvParser::WaypointContext*>(ctx) ||
+                           (dynamic_cast<SdvParser::NodeContext*>(ctx) && !dynamic_cast<SdvParser::DecoratorNodeContext*>(ctx->parent));
+    if (statement && ctx->getStart() != nullptr) starts.insert(ctx->getStart()->getTokenIndex());
+    if (dynamic_cast<SdvParser::ItemContext*>(ctx) && ctx->getStart() != nullptr) items.insert(ctx->getStart()->getTokenIndex());
+    for (auto* child : ctx->children) mark(child, starts, items);
+}
+
+constexpr size_t kLineWidth = 100;
+
+bool binds_left(const std::string& t) { return t == "," || t == ")" || t == "]" || t == "." || t == ":" || t == "/" || t == "^" ||
+                                               t == "²" || t == "³" || t == "%"; }
+bool binds_right(const std::string& t) { return t == "(" || t == "[" || t == "." || t == "/" || t == "^" || t == "±" || t == "+-"; }
+
+}  // namespace
+
+std::optional<std::string> format(diag::FileId file, const diag::SourceManager& sm, diag::DiagnosticEngine& diags) {
+    if (parse(file, sm, diags) == nullptr) return std::nullopt;  // reports why
+    const std::string_view text = sm.contents(file);
+    antlr4::ANTLRInputStream input(text.data(), text.size());
+    SdvLexer lexer(&input);
+    lexer.removeErrorListeners();
+    antlr4::CommonTokenStream stream(&lexer);
+    stream.fill();
+    SdvParser parser(&stream);
+    parser.removeErrorListeners();
+    SdvParser::FileContext* tree = parser.file();
+    std::set<size_t> starts, items;
+    mark(tree, starts, items);
+
+    std::string out;
+    int depth = 0;
+    bool line_empty = true;
+    std::string prev;      // previous default-channel token text
+    size_t prev_type = 0;
+    bool first_item = true;
+    bool prev_item_import = false;
+    bool last_comment = false;  // the last line written is an own-line comment
+    std::vector<size_t> paren_cols;  // columns just after each open '(' on the current line
+    auto newline = [&] {
+        while (!out.empty() && out.back() == ' ') out.pop_back();
+        out += "\n";
+        line_empty = true;
+    };
+    auto indent = [&] {
+        if (line_empty) {
+            out += std::string(static_cast<size_t>(std::max(depth, 0)) * 4, ' ');
+            line_empty = false;
+        }
+    };
+    const auto& all = stream.getTokens();
+    for (size_t i = 0; i < all.size(); ++i) {
+        Token* t = all[i];
+        if (t->getType() == Token::EOF) break;
+        if (t->getChannel() != Token::DEFAULT_CHANNEL) {
+            if (t->getType() != SdvLexer::COMMENT) continue;
+            // Own-line comment when a line break (or the file start) separates it from the
+            // previous token; otherwise it trails that token.
+            bool own_line = true;
+            if (i > 0) {
+                const Token* p = all[i - 1];
+                own_line = p->getType() == SdvLexer::WS && p->getText().find('\n') != std::string::npos;
+            }
+            if (own_line) {
+                if (!line_empty) newline();
+                // A comment block documenting the next declaration takes the blank line before it.
+                size_t next = i + 1;
+                while (next < all.size() && all[next]->getChannel() != Token::DEFAULT_CHANNEL) ++next;
+                if (!last_comment && next < all.size() && items.count(all[next]->getTokenIndex()) && !first_item &&
+                    !(all[next]->getType() == SdvLexer::IMPORT && prev_item_import) && out.size() >= 2 &&
+                    out.substr(out.size() - 2) != "\n\n") {
+                    out += "\n";
+                }
+                // Keep one blank line before a comment block if the source had one.
+                if (i > 0 && all[i - 1]->getType() == SdvLexer::WS) {
+                    const std::string ws = all[i - 1]->getText();
+                    if (std::count(ws.begin(), ws.end(), '\n') >= 2 && !out.empty() && out != "\n" &&
+                        out.size() >= 2 && out.substr(out.size() - 2) != "\n\n") {
+                        out += "\n";
+                    }
+                }
+                indent();
+                out += t->getText();
+                newline();
+                last_comment = true;
+            } else {
+                // Trailing: back onto the line of the token it follows (a '{' already broke it).
+                if (line_empty && !out.empty() && out.back() == '\n') out.pop_back();
+                out += "  " + t->getText();
+                newline();
+            }
+            continue;
+        }
+        const std::string tx = t->getType() == SdvLexer::PLUSMINUS ? "±" : t->getText();
+        const size_t idx = t->getTokenIndex();
+        if (tx == "}") {
+            --depth;
+            if (!line_empty) newline();
+        } else if (starts.count(idx)) {
+            if (!line_empty) newline();
+            if (items.count(idx)) {
+                // A blank line between declarations; consecutive imports stay together.
+                const bool import = t->getType() == SdvLexer::IMPORT;
+                if (!first_item && !last_comment && !(import && prev_item_import) && out.size() >= 2 &&
+                    out.substr(out.size() - 2) != "\n\n") {
+                    out += "\n";
+                }
+                first_item = false;
+                prev_item_import = import;
+            } else if (i > 0 && all[i - 1]->getType() == SdvLexer::WS) {
+                const std::string ws = all[i - 1]->getText();
+                if (std::count(ws.begin(), ws.end(), '\n') >= 2 && out.size() >= 2 && out.substr(out.size() - 2) != "\n\n" &&
+                    prev != "{") {
+                    out += "\n";
+                }
+            }
+        }
+        // Long lists wrap after a comma, aligned with the open parenthesis.
+        if (!line_empty && prev == "," && !paren_cols.empty()) {
+            size_t width = 0, level = 0;
+            for (size_t k = i; k < all.size(); ++k) {
+                if (all[k]->getChannel() != Token::DEFAULT_CHANNEL) continue;
+                const std::string w = all[k]->getText();
+                if (level == 0 && (w == "," || w == ")")) break;
+                if (w == "(" || w == "[") ++level;
+                if (w == ")" || w == "]") --level;
+                width += w.size() + 1;
+            }
+            const size_t col = out.size() - (out.rfind('\n') == std::string::npos ? 0 : out.rfind('\n') + 1);
+            if (col + 1 + width > kLineWidth) {
+                newline();
+                out += std::string(paren_cols.back(), ' ');
+                line_empty = false;
+                out += tx;
+                prev = tx;
+                prev_type = t->getType();
+                last_comment = false;
+                continue;
+            }
+        }
+        if (line_empty) {
+            indent();
+        } else {
+            const bool call = tx == "(" && (prev_type == SdvLexer::ID || (!prev.empty() && std::isalpha(static_cast<unsigned char>(prev[0])) &&
+                                                                          prev_type != SdvLexer::AT && prev_type != SdvLexer::ORIGIN));
+            const bool sign = (prev == "-" || prev == "+") && (prev_type != SdvLexer::PLUSMINUS);
+            const bool unary = sign && (t->getType() == SdvLexer::INT || t->getType() == SdvLexer::FLOAT);
+            if (!(binds_left(tx) || binds_right(prev) || call || unary)) out += " ";
+        }
+        out += tx;
+        last_comment = false;
+        if (tx == "(") paren_cols.push_back(out.size() - (out.rfind('\n') == std::string::npos ? 0 : out.rfind('\n') + 1));
+        if (tx == ")" && !paren_cols.empty()) paren_cols.pop_back();
+        if (tx == "{") {
+            ++depth;
+            // Empty braces stay together.
+            size_t k = i + 1;
+            while (k < all.size() && all[k]->getChannel() != Token::DEFAULT_CHANNEL) ++k;
+            if (k < all.size() && all[k]->getText() == "}") {
+                out += "}";
+                --depth;
+                i = k;
+                prev = "}";
+                prev_type = all[k]->getType();
+                continue;
+            }
+            newline();
+        } else if (tx == "}") {
+            newline();
+        }
+        prev = tx;
+        prev_type = t->getType();
+    }
+    if (!line_empty) newline();
+    while (out.size() >= 2 && out.substr(out.size() - 2) == "\n\n") out.pop_back();
+    return out;
+}
+
+}  // namespace sdv::compiler::syntax

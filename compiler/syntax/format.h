@@ -1,0 +1,19 @@
+// `sdv fmt`: the canonical layout of a .sdv file. One statement per line, four-space
+// indentation per brace level, single spaces between tokens except where punctuation binds
+// (calls, units, labels), a blank line between top-level declarations, at most one blank line
+// kept between statements, comments kept where they were (own line or end of line). Formatting
+// is idempotent and never changes the meaning: the output parses to the same AST.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "compiler/diag/diagnostic_engine.h"
+#include "compiler/diag/source_manager.h"
+
+namespace sdv::compiler::syntax {
+
+// The formatted text, or nullopt when the file does not parse (diagnostics in `diags`).
+std::optional<std::string> format(diag::FileId file, const diag::SourceManager& sm, diag::DiagnosticEngine& diags);
+
+}  // namespace sdv::compiler::syntax
