@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "compiler/ast/ast.h"
+#include "compiler/diff/diff.h"
 #include "compiler/diag/diagnostic_engine.h"
 #include "compiler/diag/render.h"
 #include "compiler/ir/ir_io.h"
@@ -309,6 +310,51 @@ int cmd_fmt(const std::vector<std::string>& files, bool check, bool to_stdout, c
     return failed || (check && changed) ? kFailure : kOk;
 }
 
+// Loads a program from .sdv (compiled) or .sdvir (read and validated).
+std::optional<ir::Program> load_program(const std::string& file, const Common& c) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) {
+        std::cerr << "sdv: error: cannot read '" << file << "'\n";
+        return std::nullopt;
+    }
+    std::stringstream ss;
+    ss << in.rdbuf();
+    if (file.size() > 6 && file.compare(file.size() - 6, 6, ".sdvir") == 0) {
+        auto r = ir::read_ir(ss.str());
+        if (!r.program) std::cerr << file << ": error: " << r.error << "\n";
+        return std::move(r.program);
+    }
+    diag::SourceManager sm;
+    diag::DiagnosticEngine diags(sm);
+    compiler::CompileOptions opts{c.import_dirs};
+    auto result = compiler::compile_source(file, ss.str(), sm, diags, opts);
+    if (diags.has_errors() || !result.program) {
+        Common text = c;
+        text.format = "text";
+        report(diags, sm, text);
+        return std::nullopt;
+    }
+    return std::move(result.program);
+}
+
+int cmd_diff(const std::string& a, const std::string& b, bool runs, const Common& c) {
+    if (runs) {
+        const diff::RunDiff d = diff::diff_runs(a, b);
+        if (!d.error.empty()) {
+            std::cerr << "sdv: error: " << d.error << "\n";
+            return kFailure;
+        }
+        std::cout << (c.format == "json" ? diff::to_json(d).dump(2) + "\n" : diff::render_text(d));
+        return d.equal ? kOk : kFailure;
+    }
+    auto pa = load_program(a, c);
+    auto pb = load_program(b, c);
+    if (!pa || !pb) return kFailure;
+    const auto changes = diff::diff_programs(*pa, *pb);
+    std::cout << (c.format == "json" ? diff::to_json(changes).dump(2) + "\n" : diff::render_text(changes));
+    return changes.empty() ? kOk : kFailure;
+}
+
 int cmd_catalog(const std::string& format) {
     if (format == "json") {
         std::cout << catalog::to_json().dump(2) << "\n";
@@ -384,6 +430,15 @@ int run(int argc, char** argv) {
     fmt->add_flag("--stdout", fmt_stdout, "print the formatted text instead of rewriting the file");
     add_common(fmt);
 
+    std::string diff_a, diff_b;
+    bool diff_runs = false;
+    auto* diff_cmd = app.add_subcommand("diff", "semantic difference of two scenarios (.sdv/.sdvir), or with --runs of two "
+                                                "run directories; exit 0 equal, 1 different");
+    diff_cmd->add_option("a", diff_a, "first .sdv, .sdvir or run directory")->required();
+    diff_cmd->add_option("b", diff_b, "second")->required();
+    diff_cmd->add_flag("--runs", diff_runs, "compare two run output directories");
+    add_common(diff_cmd);
+
     std::string check_file;
     auto* check_ir = app.add_subcommand("check-ir", "validate a .sdvir file (format, version, hash, "
                                                     "structure)");
@@ -409,6 +464,7 @@ int run(int argc, char** argv) {
     if (compile->parsed()) return cmd_compile(compile_file, compile_out, emit, common, warnings);
     if (cat->parsed()) return cmd_catalog(catalog_format);
     if (fmt->parsed()) return cmd_fmt(fmt_files, fmt_check, fmt_stdout, common);
+    if (diff_cmd->parsed()) return cmd_diff(diff_a, diff_b, diff_runs, common);
     if (run_cmd->parsed()) {
         if (seed_opt->count() > 0) run_args.seed = seed_value;
         return cmd_run(run_args, common, warnings);

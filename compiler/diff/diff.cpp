@@ -1,0 +1,404 @@
+#include "compiler/diff/diff.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "runtime/catalog/catalog.h"
+
+namespace sdv::diff {
+namespace {
+
+std::string num(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
+std::string quantity(double si, catalog::Dim dim) {
+    if (dim == catalog::Dim::angle) return num(si * 180 / M_PI) + " deg";
+    const std::string u(catalog::si_unit(dim));
+    return u.empty() ? num(si) : num(si) + " " + u;
+}
+
+std::string sampled(const ir::Sampled& s, catalog::Dim dim) {
+    std::string out = quantity(s.value, dim);
+    if (s.samples > 1 || s.lo != s.hi) {
+        out = quantity(s.lo, dim) + " .. " + quantity(s.hi, dim) + " samples " + std::to_string(s.samples);
+        if (s.method == ir::SampleMethod::uniform) out += " uniform";
+        if (s.method == ir::SampleMethod::normal) out += " normal(" + quantity(s.sigma, dim) + ")";
+    }
+    return out;
+}
+
+std::string vehicle_ref(const ir::VehicleRef& r, const ir::Scenario& sc) {
+    switch (r.kind) {
+        case ir::VehicleRef::Kind::none: return "(default)";
+        case ir::VehicleRef::Kind::self: return "self";
+        case ir::VehicleRef::Kind::vehicle:
+            return r.vehicle >= 0 && static_cast<size_t>(r.vehicle) < sc.vehicles.size() ? sc.vehicles[static_cast<size_t>(r.vehicle)].name : "?";
+        case ir::VehicleRef::Kind::zone: return catalog::vehicle_zones()[static_cast<size_t>(r.zone)];
+    }
+    return "?";
+}
+
+std::string param_text(const ir::ParamValue& v, const catalog::ParamDef& d, const ir::Scenario& sc) {
+    if (!v.given) return "(unset)";
+    switch (d.type) {
+        case catalog::ParamType::choice: return v.choice >= 0 ? d.choices[static_cast<size_t>(v.choice)] : "?";
+        case catalog::ParamType::boolean: return v.number.value != 0 ? "true" : "false";
+        case catalog::ParamType::vehicle: return vehicle_ref(v.vehicle, sc);
+        case catalog::ParamType::integer: return num(v.number.value);
+        case catalog::ParamType::quantity: return sampled(v.number, d.dim);
+    }
+    return "?";
+}
+
+const std::vector<catalog::ParamDef>& defs(const ir::Node& n) {
+    return n.kind == ir::NodeKind::maneuver ? catalog::maneuvers()[static_cast<size_t>(n.leaf)].params
+                                            : catalog::conditions()[static_cast<size_t>(n.leaf)].params;
+}
+
+const char* kind_name(ir::NodeKind k) {
+    switch (k) {
+        case ir::NodeKind::fallback: return "fallback";
+        case ir::NodeKind::sequence: return "sequence";
+        case ir::NodeKind::reactive_sequence: return "reactive_sequence";
+        case ir::NodeKind::parallel: return "parallel";
+        case ir::NodeKind::condition: return "condition";
+        case ir::NodeKind::maneuver: return "maneuver";
+        case ir::NodeKind::not_: return "not";
+        case ir::NodeKind::once: return "once";
+    }
+    return "?";
+}
+
+std::string node_text(const ir::Node& n) {
+    std::string s = kind_name(n.kind);
+    if (n.kind == ir::NodeKind::maneuver) s += " " + catalog::maneuvers()[static_cast<size_t>(n.leaf)].name;
+    if (n.kind == ir::NodeKind::condition) s += " " + catalog::conditions()[static_cast<size_t>(n.leaf)].name;
+    return s;
+}
+
+std::string parent_of(const std::string& path) {
+    const auto p = path.rfind('/');
+    return p == std::string::npos ? "" : path.substr(0, p);
+}
+
+void diff_trees(const ir::Program& pa, const ir::TreeInstance& a, const ir::Scenario& sa, const ir::Program& pb,
+                const ir::TreeInstance& b, const ir::Scenario& sb, const std::string& who, std::vector<Change>& out) {
+    std::map<std::string, const ir::Node*> ma, mb;
+    for (const auto& n : a.nodes) ma[n.path] = &n;
+    for (const auto& n : b.nodes) mb[n.path] = &n;
+    // Identity of a node independent of its place: declaring tree + name.
+    auto identity = [](const ir::Program& p, const ir::Node& n) {
+        const std::string tree = n.tree >= 0 && static_cast<size_t>(n.tree) < p.trees.size() ? p.trees[static_cast<size_t>(n.tree)].name : "";
+        return tree + ":" + n.name + ":" + kind_name(n.kind);
+    };
+    std::map<std::string, std::vector<const ir::Node*>> removed_by_id;
+    for (const auto& [path, n] : ma) {
+        if (!mb.count(path)) removed_by_id[identity(pa, *n)].push_back(n);
+    }
+    for (const auto& [path, n] : mb) {
+        if (ma.count(path)) continue;
+        auto it = removed_by_id.find(identity(pb, *n));
+        if (it != removed_by_id.end() && !it->second.empty()) {
+            const ir::Node* old = it->second.front();
+            it->second.erase(it->second.begin());
+            out.push_back({who + ": node " + n->name, "moved from " + parent_of(old->path) + " to " + parent_of(path)});
+            continue;
+        }
+        out.push_back({who + ": node " + path, "added (" + node_text(*n) + ")"});
+    }
+    for (const auto& [id, nodes] : removed_by_id) {
+        for (const ir::Node* n : nodes) out.push_back({who + ": node " + n->path, "removed (" + node_text(*n) + ")"});
+    }
+    for (const auto& [path, na] : ma) {
+        auto it = mb.find(path);
+        if (it == mb.end()) continue;
+        const ir::Node& nb = *it->second;
+        if (na->kind != nb.kind || na->leaf != nb.leaf) {
+            out.push_back({who + ": node " + path, node_text(*na) + " → " + node_text(nb)});
+            continue;
+        }
+        if (na->kind == ir::NodeKind::parallel && na->success_threshold != nb.success_threshold) {
+            out.push_back({who + ": node " + path, "success threshold " + std::to_string(na->success_threshold) + " → " +
+                                                       std::to_string(nb.success_threshold)});
+        }
+        if (na->kind != ir::NodeKind::maneuver && na->kind != ir::NodeKind::condition) continue;
+        const auto& d = defs(*na);
+        for (size_t i = 0; i < d.size() && i < na->params.size() && i < nb.params.size(); ++i) {
+            const std::string ta = param_text(na->params[i], d[i], sa), tb = param_text(nb.params[i], d[i], sb);
+            if (ta != tb) out.push_back({who + ": node " + path, d[i].name + " " + ta + " → " + tb});
+        }
+    }
+}
+
+std::string position(const ir::Position& p) {
+    if (p.xy) return "(" + num(p.x) + " m, " + num(p.y) + " m)";
+    std::string s = "lane " + p.lane + " at " + num(p.s) + " m";
+    if (p.offset != 0) s += " offset " + num(p.offset) + " m";
+    return s;
+}
+
+void field(std::vector<Change>& out, const std::string& where, const std::string& name, const std::string& a,
+           const std::string& b) {
+    if (a != b) out.push_back({where, name + " " + a + " → " + b});
+}
+
+std::string road_text(const ir::Program& p, int32_t r) {
+    if (r < 0) return "(none)";
+    const ir::Road& road = p.roads[static_cast<size_t>(r)];
+    std::ostringstream o;
+    o << road.name;
+    if (road.kind == ir::RoadKind::road) {
+        o << " (" << road.lanes_forward << " forward, " << road.lanes_backward << " backward, width " << num(road.lane_width)
+          << " m, limit " << num(road.speed_limit) << " m/s, segments";
+        for (const auto& s : road.segments) o << " " << (s.arc ? "arc " : "straight ") << num(s.length) << (s.arc ? "/r" + num(s.radius) : "");
+        o << ")";
+    } else if (road.kind == ir::RoadKind::junction) {
+        o << " (junction " << road.lanes_forward << " lanes, " << road.control << ", arms " << num(road.arm_length) << " m)";
+    } else {
+        o << " (map " << road.map_file << ")";
+    }
+    return o.str();
+}
+
+}  // namespace
+
+std::vector<Change> diff_programs(const ir::Program& a, const ir::Program& b) {
+    std::vector<Change> out;
+    std::map<std::string, const ir::Scenario*> sa, sb;
+    for (const auto& s : a.scenarios) sa[s.name] = &s;
+    for (const auto& s : b.scenarios) sb[s.name] = &s;
+    for (const auto& [name, s] : sa) {
+        if (!sb.count(name)) out.push_back({"scenario " + name, "removed"});
+    }
+    for (const auto& [name, s] : sb) {
+        if (!sa.count(name)) out.push_back({"scenario " + name, "added"});
+    }
+    for (const auto& [name, x] : sa) {
+        auto it = sb.find(name);
+        if (it == sb.end()) continue;
+        const ir::Scenario& y = *it->second;
+        const std::string where = "scenario " + name;
+        field(out, where, "road", road_text(a, x->road), road_text(b, y.road));
+        field(out, where, "timeout", num(x->timeout) + " s", num(y.timeout) + " s");
+        field(out, where, "seed", std::to_string(x->seed), std::to_string(y.seed));
+        field(out, where, "traffic rate", num(x->traffic_rate) + " Hz", num(y.traffic_rate) + " Hz");
+        field(out, where, "planning rate", num(x->planning_rate) + " Hz", num(y.planning_rate) + " Hz");
+        field(out, where, "planning latency", num(x->planning_latency) + " s", num(y.planning_latency) + " s");
+        std::map<std::string, const ir::Vehicle*> va, vb;
+        for (const auto& v : x->vehicles) va[v.name] = &v;
+        for (const auto& v : y.vehicles) vb[v.name] = &v;
+        for (const auto& [vn, v] : va) {
+            if (!vb.count(vn)) out.push_back({"vehicle " + vn, "removed"});
+        }
+        for (const auto& [vn, v] : vb) {
+            if (!va.count(vn)) out.push_back({"vehicle " + vn, "added"});
+        }
+        for (const auto& [vn, v] : va) {
+            auto jt = vb.find(vn);
+            if (jt == vb.end()) continue;
+            const ir::Vehicle& w = *jt->second;
+            const std::string who = "vehicle " + vn;
+            static const char* kinds[] = {"sdv", "trajectory", "static", "external"};
+            field(out, who, "kind", kinds[static_cast<int>(v->kind)], kinds[static_cast<int>(w.kind)]);
+            field(out, who, "ego", v->is_ego ? "yes" : "no", w.is_ego ? "yes" : "no");
+            field(out, who, "start", position(v->start), position(w.start));
+            if (!v->start.xy && !w.start.xy && v->start.lane == w.start.lane && v->start.s != w.start.s) {
+                out.back().what += " (" + num(std::fabs(w.start.s - v->start.s)) + " m " + (w.start.s > v->start.s ? "later" : "earlier") + ")";
+            }
+            field(out, who, "goal", v->goal ? position(*v->goal) : "(none)", w.goal ? position(*w.goal) : "(none)");
+            field(out, who, "speed", num(v->speed) + " m/s", num(w.speed) + " m/s");
+            field(out, who, "length", num(v->length) + " m", num(w.length) + " m");
+            field(out, who, "width", num(v->width) + " m", num(w.width) + " m");
+            if (v->tree >= 0 && w.tree >= 0) {
+                diff_trees(a, a.instances[static_cast<size_t>(v->tree)], *x, b, b.instances[static_cast<size_t>(w.tree)], y, who, out);
+            }
+        }
+        std::vector<std::string> ea, eb;
+        for (int32_t r : x->expect_roots) ea.push_back(x->expects[static_cast<size_t>(r)].text);
+        for (int32_t r : y.expect_roots) eb.push_back(y.expects[static_cast<size_t>(r)].text);
+        for (const auto& e : ea) {
+            if (std::find(eb.begin(), eb.end(), e) == eb.end()) out.push_back({where, "expectation removed: " + e});
+        }
+        for (const auto& e : eb) {
+            if (std::find(ea.begin(), ea.end(), e) == ea.end()) out.push_back({where, "expectation added: " + e});
+        }
+        std::map<std::string, std::string> la, lb;
+        auto light = [](const ir::LightProgram& l) {
+            std::string s;
+            for (const auto& p : l.phases) s += p.state + " " + num(p.duration) + " s  ";
+            return s + "offset " + num(l.offset) + " s";
+        };
+        for (const auto& l : x->lights) la[l.name] = light(l);
+        for (const auto& l : y.lights) lb[l.name] = light(l);
+        for (const auto& [ln, t] : la) field(out, where, "light " + ln, t, lb.count(ln) ? lb[ln] : "(none)");
+        for (const auto& [ln, t] : lb) {
+            if (!la.count(ln)) field(out, where, "light " + ln, "(none)", t);
+        }
+    }
+    return out;
+}
+
+namespace {
+
+struct Row {
+    double time = 0;
+    int tick = 0;
+    std::string vehicle, maneuver;
+    double x = 0, y = 0, speed = 0;
+};
+
+bool read_rows(const std::string& path, std::vector<Row>& rows) {
+    std::ifstream in(path);
+    if (!in) return false;
+    std::string line;
+    std::getline(in, line);  // header
+    while (std::getline(in, line)) {
+        std::vector<std::string> f;
+        std::stringstream ss(line);
+        std::string cell;
+        while (std::getline(ss, cell, ',')) f.push_back(cell);
+        if (f.size() < 12) continue;
+        Row r;
+        r.time = std::atof(f[0].c_str());
+        r.tick = std::atoi(f[1].c_str());
+        r.vehicle = f[2];
+        r.x = std::atof(f[4].c_str());
+        r.y = std::atof(f[5].c_str());
+        r.speed = std::atof(f[7].c_str());
+        r.maneuver = f.size() > 12 ? f[12] : "";
+        rows.push_back(r);
+    }
+    return true;
+}
+
+}  // namespace
+
+RunDiff diff_runs(const std::string& dir_a, const std::string& dir_b, double tol) {
+    RunDiff d;
+    std::vector<Row> a, b;
+    if (!read_rows(dir_a + "/trajectories.csv", a)) {
+        d.error = "cannot read " + dir_a + "/trajectories.csv";
+        return d;
+    }
+    if (!read_rows(dir_b + "/trajectories.csv", b)) {
+        d.error = "cannot read " + dir_b + "/trajectories.csv";
+        return d;
+    }
+    std::map<std::pair<int, std::string>, const Row*> mb;
+    for (const auto& r : b) mb[{r.tick, r.vehicle}] = &r;
+    for (const auto& r : a) {
+        auto it = mb.find({r.tick, r.vehicle});
+        const bool missing = it == mb.end();
+        const Row* o = missing ? nullptr : it->second;
+        const double dp = missing ? INFINITY : std::hypot(o->x - r.x, o->y - r.y);
+        const bool differ = missing || dp > tol || std::fabs(o->speed - r.speed) > tol;
+        if (!differ) continue;
+        if (d.first_tick < 0) {
+            d.equal = false;
+            d.first_tick = r.tick;
+            d.first_time = r.time;
+            d.detail = missing ? r.vehicle + " is missing from the second run"
+                               : r.vehicle + ": position differs by " + num(dp) + " m, speed " + num(r.speed) + " → " + num(o->speed) + " m/s";
+        }
+        if (r.tick == d.first_tick) d.vehicles.push_back(r.vehicle);
+        else break;
+    }
+    if (d.first_tick < 0 && a.size() != b.size()) {
+        d.equal = false;
+        d.detail = "the runs have different lengths";
+    }
+    // Decision traces: the first planning cycle whose maneuver or winner differs.
+    std::ifstream ta(dir_a + "/decisions.jsonl"), tb(dir_b + "/decisions.jsonl");
+    if (ta && tb) {
+        d.has_decisions = true;
+        std::map<std::pair<double, std::string>, nlohmann::json> mdb;
+        std::string line;
+        while (std::getline(tb, line)) {
+            auto j = nlohmann::json::parse(line, nullptr, false);
+            if (j.is_object() && j.contains("time") && j.contains("vehicle")) mdb[{j["time"].get<double>(), j["vehicle"].get<std::string>()}] = j;
+        }
+        while (std::getline(ta, line)) {
+            auto j = nlohmann::json::parse(line, nullptr, false);
+            if (!j.is_object() || !j.contains("time") || !j.contains("vehicle")) continue;
+            auto it = mdb.find({j["time"].get<double>(), j["vehicle"].get<std::string>()});
+            if (it == mdb.end()) continue;
+            const auto& k = it->second;
+            std::string what;
+            if (j["maneuver"] != k["maneuver"]) {
+                what = "maneuver " + j["maneuver"].get<std::string>() + " → " + k["maneuver"].get<std::string>();
+            } else if (j["winner"] != k["winner"] || j["cost"] != k["cost"]) {
+                what = "maneuver " + j["maneuver"].get<std::string>() + ": winning candidate " + j["winner"].dump() + " → " +
+                       k["winner"].dump() + " (cost " + j["cost"]["total"].dump() + " → " + k["cost"]["total"].dump() + ")";
+            }
+            if (!what.empty()) {
+                d.equal = false;
+                d.decision_time = j["time"].get<double>();
+                d.decision_vehicle = j["vehicle"].get<std::string>();
+                d.decision_detail = what;
+                break;
+            }
+        }
+    }
+    return d;
+}
+
+std::string render_text(const std::vector<Change>& changes) {
+    if (changes.empty()) return "no difference\n";
+    std::string out;
+    for (const auto& c : changes) out += c.where + ": " + c.what + "\n";
+    out += std::to_string(changes.size()) + (changes.size() == 1 ? " difference\n" : " differences\n");
+    return out;
+}
+
+nlohmann::ordered_json to_json(const std::vector<Change>& changes) {
+    nlohmann::ordered_json j;
+    j["equal"] = changes.empty();
+    j["changes"] = nlohmann::ordered_json::array();
+    for (const auto& c : changes) j["changes"].push_back({{"where", c.where}, {"what", c.what}});
+    return j;
+}
+
+std::string render_text(const RunDiff& d) {
+    if (!d.error.empty()) return d.error + "\n";
+    if (d.equal) return "runs are equal\n";
+    std::ostringstream o;
+    if (d.first_tick >= 0) {
+        o << "first divergence at tick " << d.first_tick << " (t = " << num(d.first_time) << " s): ";
+        for (size_t i = 0; i < d.vehicles.size(); ++i) o << (i ? ", " : "") << d.vehicles[i];
+        o << "\n  " << d.detail << "\n";
+    } else if (!d.detail.empty()) {
+        o << d.detail << "\n";
+    }
+    if (d.decision_time >= 0) {
+        o << "first differing decision at t = " << num(d.decision_time) << " s, vehicle " << d.decision_vehicle << ": "
+          << d.decision_detail << "\n";
+    } else if (!d.has_decisions) {
+        o << "(no decision traces to compare: run both with --trace)\n";
+    }
+    return o.str();
+}
+
+nlohmann::ordered_json to_json(const RunDiff& d) {
+    nlohmann::ordered_json j;
+    j["equal"] = d.equal;
+    if (!d.error.empty()) j["error"] = d.error;
+    if (d.first_tick >= 0) {
+        j["first_tick"] = d.first_tick;
+        j["first_time"] = d.first_time;
+        j["vehicles"] = d.vehicles;
+        j["detail"] = d.detail;
+    }
+    if (d.decision_time >= 0) {
+        j["decision"] = {{"time", d.decision_time}, {"vehicle", d.decision_vehicle}, {"detail", d.decision_detail}};
+    }
+    return j;
+}
+
+}  // namespace sdv::diff
