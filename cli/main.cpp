@@ -20,6 +20,7 @@
 #include "compiler/syntax/parser.h"
 #include "runtime/catalog/catalog.h"
 #include "runtime/io/outputs.h"
+#include "runtime/io/reuse.h"
 #include "runtime/sim/simulation.h"
 
 #include <unistd.h>
@@ -355,6 +356,31 @@ int cmd_diff(const std::string& a, const std::string& b, bool runs, const Common
     return changes.empty() ? kOk : kFailure;
 }
 
+int cmd_reuse(const std::vector<std::string>& files, const Common& c) {
+    std::vector<ir::Program> programs;
+    programs.reserve(files.size());
+    for (const auto& f : files) {
+        auto p = load_program(f, c);
+        if (!p) return kFailure;
+        programs.push_back(std::move(*p));
+    }
+    std::vector<io::ReuseInput> inputs;
+    for (size_t i = 0; i < files.size(); ++i) {
+        for (size_t s = 0; s < programs[i].scenarios.size(); ++s) inputs.push_back({files[i], &programs[i], static_cast<int>(s)});
+    }
+    if (inputs.size() < 2) {
+        std::cerr << "sdv: error: reuse needs at least two scenarios\n";
+        return kUsage;
+    }
+    const io::ReuseReport r = io::reuse(inputs);
+    if (!r.error.empty()) {
+        std::cerr << r.error << "\n";
+        return kFailure;
+    }
+    std::cout << io::render_reuse(r);
+    return kOk;
+}
+
 int cmd_catalog(const std::string& format) {
     if (format == "json") {
         std::cout << catalog::to_json().dump(2) << "\n";
@@ -439,6 +465,12 @@ int run(int argc, char** argv) {
     diff_cmd->add_flag("--runs", diff_runs, "compare two run output directories");
     add_common(diff_cmd);
 
+    std::vector<std::string> reuse_files;
+    auto* reuse_cmd = app.add_subcommand("reuse", "the paper's internal reuse level (IRL) of a set of scenarios, over all "
+                                                  "tree nodes and over the nodes executed in their runs");
+    reuse_cmd->add_option("files", reuse_files, ".sdv or .sdvir files")->required();
+    add_common(reuse_cmd);
+
     std::string check_file;
     auto* check_ir = app.add_subcommand("check-ir", "validate a .sdvir file (format, version, hash, "
                                                     "structure)");
@@ -465,6 +497,7 @@ int run(int argc, char** argv) {
     if (cat->parsed()) return cmd_catalog(catalog_format);
     if (fmt->parsed()) return cmd_fmt(fmt_files, fmt_check, fmt_stdout, common);
     if (diff_cmd->parsed()) return cmd_diff(diff_a, diff_b, diff_runs, common);
+    if (reuse_cmd->parsed()) return cmd_reuse(reuse_files, common);
     if (run_cmd->parsed()) {
         if (seed_opt->count() > 0) run_args.seed = seed_value;
         return cmd_run(run_args, common, warnings);

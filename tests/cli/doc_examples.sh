@@ -24,8 +24,42 @@ for f in "$dir"/*.sdv; do
         echo "FAIL $(basename "$f"):"
         echo "$out"
         fail=1
+        continue
+    fi
+    # Examples with a scenario must also run with their expectations holding.
+    if grep -q '^scenario ' "$f"; then
+        if ! out=$("$sdv" run "$f" -o "$dir/out_$(basename "$f" .sdv)" 2>&1); then
+            echo "FAIL $(basename "$f") does not run:"
+            echo "$out"
+            fail=1
+            continue
+        fi
+        echo "ok   $(basename "$f") (lints and runs)"
     else
         echo "ok   $(basename "$f")"
     fi
 done
+# The outputs quoted in the tutorial are the tool's real outputs.
+python3 - "$sdv" "$root/docs/tutorial.md" "$dir" <<'PY' || fail=1
+import os, re, subprocess, sys
+sdv, md, d = os.path.abspath(sys.argv[1]), sys.argv[2], sys.argv[3]
+text = open(md).read()
+blocks = re.findall(r"^```sdv\n(.*?)^```", text, re.S | re.M)
+quoted = re.findall(r"^```text\n(.*?)^```", text, re.S | re.M)
+open(f"{d}/first.sdv", "w").write(blocks[0].replace("tree std.drive(speed = 50 km/h)", "tree std.drive(speed = 50 km)"))
+lint = subprocess.run([sdv, "lint", "first.sdv"], cwd=d, capture_output=True, text=True).stderr
+want = next(q for q in quoted if q.startswith("first.sdv"))
+open(f"{d}/cut_in.sdv", "w").write(blocks[1])
+open(f"{d}/cut_in_wide.sdv", "w").write(blocks[2])
+diff = subprocess.run([sdv, "diff", "cut_in.sdv", "cut_in_wide.sdv"], cwd=d, capture_output=True, text=True).stdout
+want_diff = next(q for q in quoted if q.startswith("vehicle v2"))
+ok = True
+for name, got, exp in (("error example", lint, want), ("diff example", diff, want_diff)):
+    if got != exp:
+        print(f"FAIL tutorial {name} differs:\n--- documented\n{exp}--- actual\n{got}")
+        ok = False
+    else:
+        print(f"ok   tutorial {name} matches the tool")
+sys.exit(0 if ok else 1)
+PY
 exit $fail
