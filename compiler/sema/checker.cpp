@@ -1286,8 +1286,10 @@ private:
             d->notes.push_back({{}, "add e.g. 'straight 300 m'"});
             sym.ok = false;
         }
-        const double half_width =
-            0.5 * road.lane_width * (road.lanes_forward + road.lanes_backward) + 0.5;
+        // The reference line runs between the directions: a left arc has the backward lanes on
+        // its inside, a right arc the forward lanes; the radius must exceed what lies inside.
+        const double inside_left = road.lane_width * road.lanes_backward + 0.5;
+        const double inside_right = road.lane_width * road.lanes_forward + 0.5;
         for (const auto& seg : r.segments) {
             ParamDef def;
             def.dim = Dim::length;
@@ -1305,7 +1307,8 @@ private:
             out.length = len.num.value;
             if (seg.arc) {
                 ParamDef rdef = def;
-                rdef.min = half_width;
+                const bool right = seg.side && seg.side->text == "right";
+                rdef.min = right ? inside_right : inside_left;
                 rdef.min_exclusive = false;
                 rdef.max = 1e6;
                 Eval rad = eval(*seg.radius, nullptr, {ParamType::quantity, Dim::length},
@@ -1314,7 +1317,7 @@ private:
                     sym.ok = false;
                     continue;
                 }
-                if (!check_range(rad, rdef, "the arc radius (it must exceed half the road width)")) {
+                if (!check_range(rad, rdef, "the arc radius (it must exceed the width of the lanes on the inside of the turn)")) {
                     sym.ok = false;
                     continue;
                 }

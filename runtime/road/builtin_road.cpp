@@ -20,14 +20,19 @@ std::vector<std::string> validate(const RoadSpec& s) {
     if (!(s.speed_limit_mps > 0 && s.speed_limit_mps <= 100)) errs.push_back("road '" + s.name + "': speed limit must be in (0, 100] m/s");
     if (s.segments.empty()) errs.push_back("road '" + s.name + "': no segments");
     double total = 0;
-    const double half = 0.5 * s.lane_width_m * (s.lanes_forward + s.lanes_backward);
+    // The reference line runs between the directions: a left arc has the backward lanes on its
+    // inside, a right arc the forward lanes. The radius must exceed what lies inside.
+    const double inside_left = s.lane_width_m * s.lanes_backward + 0.5;
+    const double inside_right = s.lane_width_m * s.lanes_forward + 0.5;
     for (size_t i = 0; i < s.segments.size(); ++i) {
         const auto& g = s.segments[i];
         if (!(g.length_m > 0) || !std::isfinite(g.length_m) || g.length_m > kMaxLength) {
             errs.push_back("road '" + s.name + "': segment " + std::to_string(i + 1) + " has an invalid length");
         }
-        if (g.kind == Segment::arc && !(std::fabs(g.radius_m) > half && std::isfinite(g.radius_m))) {
-            errs.push_back("road '" + s.name + "': arc " + std::to_string(i + 1) + " has a radius not above half the road width");
+        const double inside = g.radius_m > 0 ? inside_left : inside_right;
+        if (g.kind == Segment::arc && !(std::fabs(g.radius_m) > inside && std::isfinite(g.radius_m))) {
+            errs.push_back("road '" + s.name + "': arc " + std::to_string(i + 1) +
+                           " is tighter than the lanes on its inside (radius must exceed " + std::to_string(inside) + " m)");
         }
         total += g.length_m;
     }

@@ -280,7 +280,11 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
             const LL& b = lls[j];
             if (b.right_way == a.left_way && b.right == a.left) {
                 net.set_neighbours(a.lane, b.lane, true);
-            } else if (b.left_way == a.left_way) {
+            } else if (b.left_way == a.left_way && !a.left.empty() && b.left.size() == a.left.size() &&
+                       std::equal(a.left.begin(), a.left.end(), b.left.rbegin())) {
+                // Opposite neighbours: the shared way runs against one of them. (Two lanelets
+                // sharing a left bound drawn the same way overlap where a lane splits; they are
+                // not neighbours.)
                 net.lane_mut(a.lane).left = b.lane;
                 net.lane_mut(a.lane).left_same_direction = false;
             }
@@ -352,8 +356,13 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
                     }
                 }
             }
+            // A right-of-way element's stop line belongs to its yielding lanelets only.
+            bool yields = subtype != "right_of_way";
             for (const auto& m : rel.members) {
-                if (m.role == "ref_line" && m.type == "way") attach_stop_line(a, m.ref);
+                if (m.role == "yield" && m.type == "relation" && m.ref == a.id) yields = true;
+            }
+            for (const auto& m : rel.members) {
+                if (yields && m.role == "ref_line" && m.type == "way") attach_stop_line(a, m.ref);
             }
         }
     }

@@ -65,6 +65,13 @@ std::optional<LaneId> RoadNetwork::find(const std::string& name) const {
 const ReferenceLine& RoadNetwork::reference(LaneId id) const {
     auto& slot = refs_.at(static_cast<size_t>(id));
     if (!slot) slot = ReferenceLine::build(lane(id).centre);
+    if (!slot) {
+        // add_lane refuses centre lines a reference line cannot be built from, so this only
+        // guards against misuse: a straight stub along the lane's first point.
+        const Vec2 p = lane(id).centre.empty() ? Vec2{} : lane(id).centre.front();
+        const std::vector<Vec2> stub = {p, p + Vec2{1, 0}};
+        slot = ReferenceLine::build(stub);
+    }
     return *slot;
 }
 

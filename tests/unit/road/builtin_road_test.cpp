@@ -65,6 +65,11 @@ TEST_CASE("invalid built-in roads give errors") {
     s.segments[1].radius_m = 2;  // tighter than half the road
     CHECK(!build_road(s).errors.empty());
     s = highway();
+    s.segments[1].radius_m = -4;  // a right arc with two 3.5 m lanes on its inside
+    CHECK(!build_road(s).errors.empty());
+    s.segments[1].radius_m = 5;  // a left arc has only the backward lane (3.5 m) inside: fine
+    CHECK(build_road(s).errors.empty());
+    s = highway();
     s.lanes_forward = 0;
     s.lanes_backward = 0;
     CHECK(!build_road(s).errors.empty());

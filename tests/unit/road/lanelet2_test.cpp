@@ -57,6 +57,14 @@ TEST_CASE("mapping_example.osm: routing and neighbours") {
     CHECK(net.lane(l).left == n);
     CHECK(net.lane(l).left_same_direction);
     CHECK(net.lane(n).right == l);
+    // 42440 and 45254 share their left way drawn the same way (a lane splitting): they overlap
+    // and are not opposite neighbours.
+    const LaneId s1 = id(net, "42440"), s2 = id(net, "45254");
+    CHECK(net.lane(s1).left != s2);
+    CHECK(net.lane(s2).left != s1);
+    // Regulatory element 45230 makes 45014 and 45016 yield: they get its stop line.
+    CHECK(net.lane(id(net, "45014")).stop_line_s.has_value());
+    CHECK(net.lane(id(net, "45016")).stop_line_s.has_value());
 }
 
 TEST_CASE("the GeoScenario maps load") {
