@@ -181,7 +181,6 @@ struct Env {
     std::map<std::string, Binding> params;
     // label → overriding args (evaluated in `env`)
     std::map<std::string, std::vector<std::pair<const ast::Arg*, const Env*>>> overrides;
-    bool generic = false;
     std::vector<std::string> stack;  // tree names, for cycle detection while expanding
 };
 
@@ -203,8 +202,7 @@ public:
 
     Compilation run(const std::string& display, std::string text) {
         Compilation out;
-        load(display, std::move(text), fs::path(display).parent_path(), "", true, false,
-             SourceRange{});
+        load(display, std::move(text), fs::path(display).parent_path(), "", true, false);
         for (auto& u : units_) {
             out.files.push_back(std::move(owned_[u.id]));
             out.file_ids.push_back(u.id);
@@ -228,7 +226,7 @@ public:
             d.loc = loc(t.decl->name.range);
             program.trees.push_back(std::move(d));
         }
-        check_roads(program);
+        check_roads();
         for (auto& u : units_) {
             if (!u.is_main || u.file == nullptr) continue;
             for (const auto& s : u.file->scenarios) check_scenario(s, program);
@@ -265,8 +263,7 @@ private:
 
     // ---------------------------------------------------------------- loading
     void load(const std::string& display, std::string text, fs::path dir, std::string qualifier,
-              bool is_main, bool is_stdlib, SourceRange from) {
-        (void)from;
+              bool is_main, bool is_stdlib) {
         const diag::FileId id = sm_.add_file(display, std::move(text));
         Unit u;
         u.id = id;
@@ -304,7 +301,7 @@ private:
             }
             if (loaded_.count(imp.path)) return;
             load(imp.path, std::string(f->contents), {}, imp.alias ? imp.alias->text : "std",
-                 false, true, imp.range);
+                 false, true);
             return;
         }
         if (from_stdlib) {
@@ -322,8 +319,7 @@ private:
             std::stringstream ss;
             ss << in.rdbuf();
             if (!in.good() && !in.eof()) break;
-            load(display, ss.str(), c.parent_path(), imp.alias ? imp.alias->text : "", false,
-                 false, imp.range);
+            load(display, ss.str(), c.parent_path(), imp.alias ? imp.alias->text : "", false, false);
             return;
         }
         auto* d = error("E0107", imp.path_range, "cannot find imported file '" + imp.path + "'");
@@ -724,7 +720,6 @@ private:
     void declare_tree(TreeSym& t, Env& env) {
         {
             env.tree = &t;
-            env.generic = true;
             for (const auto& p : t.decl->params) {
                 if (t.params.count(p.name.text)) {
                     auto* d = error("E0108", p.name.range, "duplicate parameter '" + p.name.text +
@@ -1204,7 +1199,7 @@ private:
         return out;
     }
 
-    void check_roads(ir::Program& program) {
+    void check_roads() {
         for (const auto& r : road_decls_) {
             RoadSym sym;
             sym.unit = r.unit;
@@ -1225,7 +1220,6 @@ private:
             sym.road.loc = loc(sym.range);
             roads_.push_back(std::move(sym));
         }
-        (void)program;
     }
 
     void check_builtin_road(const ast::RoadDecl& r, RoadSym& sym) {

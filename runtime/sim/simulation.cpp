@@ -95,7 +95,6 @@ struct Agent {
     std::string maneuver_name = "none";
     LaneId target_lane = kNoLane;  // of a running lane change / cut-in
     uint32_t plan_count = 0;
-    double condition_draw_seed = 0;
     // Per-cycle results (written by the planning thread, applied in order).
     std::string trace;
     bool fallback = false;
@@ -398,7 +397,7 @@ void Context::view() {
         const planner::FrenetState f = a_.plan->traj.at(t_start_ - a_.plan->start);
         c = a_.plan->ref->to_cartesian({f.s, f.s_d, f.s_dd, f.d, f.d_d, f.d_dd});
     }
-    self = ref.to_frenet(c, a_.lane_s >= 0 ? -1 : -1);
+    self = ref.to_frenet(c);
     seen.clear();
     const Snap& me = w_.snap_[static_cast<size_t>(a_.index)];
     for (size_t j = 0; j < w_.snap_.size(); ++j) {
