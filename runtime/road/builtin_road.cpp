@@ -79,28 +79,24 @@ BuildResult build_road(const RoadSpec& spec) {
     const double w = spec.lane_width_m;
     std::vector<LaneId> fwd(static_cast<size_t>(spec.lanes_forward) + 1, kNoLane);
     std::vector<LaneId> bwd(static_cast<size_t>(spec.lanes_backward) + 1, kNoLane);
+    // A lane `d` to the side of a line running in its driving direction (left positive).
+    auto add = [&](const std::string& name, const std::vector<Vec2>& line, double d) {
+        Lane l;
+        l.name = name;
+        l.centre = offset_polyline(line, d);
+        l.left_bound = offset_polyline(line, d + 0.5 * w);
+        l.right_bound = offset_polyline(line, d - 0.5 * w);
+        l.width = w;
+        l.speed_limit = spec.speed_limit_mps;
+        return out.network.add_lane(std::move(l));
+    };
     for (int k = 1; k <= spec.lanes_forward; ++k) {
-        const double d = -(spec.lanes_forward - k + 0.5) * w;
-        Lane l;
-        l.name = spec.name + "." + std::to_string(k);
-        l.centre = offset_polyline(ref, d);
-        l.left_bound = offset_polyline(ref, d + 0.5 * w);
-        l.right_bound = offset_polyline(ref, d - 0.5 * w);
-        l.width = w;
-        l.speed_limit = spec.speed_limit_mps;
-        fwd[static_cast<size_t>(k)] = out.network.add_lane(std::move(l));
+        fwd[static_cast<size_t>(k)] = add(spec.name + "." + std::to_string(k), ref, -(spec.lanes_forward - k + 0.5) * w);
     }
-    std::vector<Vec2> rev(ref.rbegin(), ref.rend());
+    const std::vector<Vec2> rev(ref.rbegin(), ref.rend());
     for (int k = 1; k <= spec.lanes_backward; ++k) {
-        const double d = -(k - 0.5) * w;  // to the right of the reversed reference line
-        Lane l;
-        l.name = spec.name + ".-" + std::to_string(k);
-        l.centre = offset_polyline(rev, d);
-        l.left_bound = offset_polyline(rev, d + 0.5 * w);
-        l.right_bound = offset_polyline(rev, d - 0.5 * w);
-        l.width = w;
-        l.speed_limit = spec.speed_limit_mps;
-        bwd[static_cast<size_t>(k)] = out.network.add_lane(std::move(l));
+        // To the right of the reversed reference line.
+        bwd[static_cast<size_t>(k)] = add(spec.name + ".-" + std::to_string(k), rev, -(k - 0.5) * w);
     }
     for (int k = 1; k < spec.lanes_forward; ++k) out.network.set_neighbours(fwd[static_cast<size_t>(k)], fwd[static_cast<size_t>(k + 1)], true);
     for (int k = 1; k < spec.lanes_backward; ++k) out.network.set_neighbours(bwd[static_cast<size_t>(k + 1)], bwd[static_cast<size_t>(k)], true);
