@@ -20,6 +20,7 @@
 #include "compiler/syntax/parser.h"
 #include "runtime/catalog/catalog.h"
 #include "runtime/io/outputs.h"
+#include "runtime/io/plot.h"
 #include "runtime/io/reuse.h"
 #include "runtime/sim/simulation.h"
 
@@ -471,6 +472,11 @@ int run(int argc, char** argv) {
     reuse_cmd->add_option("files", reuse_files, ".sdv or .sdvir files")->required();
     add_common(reuse_cmd);
 
+    std::string plot_dir, plot_out = "-";
+    auto* plot_cmd = app.add_subcommand("plot", "a static SVG of a run: paths over the road and speed profiles");
+    plot_cmd->add_option("run_dir", plot_dir, "a run output directory (sdv run -o)")->required();
+    plot_cmd->add_option("-o,--output", plot_out, "SVG file ('-' for stdout)");
+
     std::string check_file;
     auto* check_ir = app.add_subcommand("check-ir", "validate a .sdvir file (format, version, hash, "
                                                     "structure)");
@@ -498,6 +504,25 @@ int run(int argc, char** argv) {
     if (fmt->parsed()) return cmd_fmt(fmt_files, fmt_check, fmt_stdout, common);
     if (diff_cmd->parsed()) return cmd_diff(diff_a, diff_b, diff_runs, common);
     if (reuse_cmd->parsed()) return cmd_reuse(reuse_files, common);
+    if (plot_cmd->parsed()) {
+        std::string error;
+        const std::string svg = io::plot_run(plot_dir, error);
+        if (!error.empty()) {
+            std::cerr << "sdv: error: " << error << "\n";
+            return kFailure;
+        }
+        if (plot_out == "-") {
+            std::cout << svg;
+        } else {
+            std::ofstream o(plot_out, std::ios::binary);
+            o << svg;
+            if (!o) {
+                std::cerr << "sdv: error: cannot write '" << plot_out << "'\n";
+                return kFailure;
+            }
+        }
+        return kOk;
+    }
     if (run_cmd->parsed()) {
         if (seed_opt->count() > 0) run_args.seed = seed_value;
         return cmd_run(run_args, common, warnings);

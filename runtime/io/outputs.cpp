@@ -121,6 +121,7 @@ std::string write_outputs(const std::string& dir, const ir::Program& p, int scen
     if (auto e = write("trajectories.csv", r.trajectories_csv); !e.empty()) return e;
     if (auto e = write("summary.json", summary_json(p, scenario, r, info)); !e.empty()) return e;
     if (auto e = write("timing.json", timing_json(r, info.threads)); !e.empty()) return e;
+    if (auto e = write("road.json", r.road_json); !e.empty()) return e;
     if (info.trace) {
         if (auto e = write("decisions.jsonl", r.decisions_jsonl); !e.empty()) return e;
     }

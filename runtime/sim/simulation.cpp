@@ -149,6 +149,7 @@ public:
     std::map<std::string, const ir::LightProgram*> programs_;
 
     std::string light_state(int32_t light, double t) const;
+    std::string road_json() const;
     std::shared_ptr<const road::ReferenceLine> build_path(Agent& a, LaneId from);
     void plan_agent(Agent& a, double t0);
     void place(Agent& a, const road::CartesianState& c, std::optional<double> lane_heading = std::nullopt);
@@ -375,6 +376,57 @@ std::string World::init() {
         }
     }
     return "";
+}
+
+// The geometry a viewer needs, in metres, rounded to centimetres: lane centre lines and bounds
+// (every ~1 m), stop lines, lights with the lanes they control and their programs.
+std::string World::road_json() const {
+    std::ostringstream o;
+    auto pts = [&](const std::vector<road::Vec2>& v) {
+        o << "[";
+        double since = 1e9;
+        bool first = true;
+        for (size_t i = 0; i < v.size(); ++i) {
+            if (i > 0) since += road::distance(v[i - 1], v[i]);
+            if (since < 1.0 && i + 1 != v.size()) continue;
+            since = 0;
+            o << (first ? "" : ",") << "[" << fmt(v[i].x, 2) << "," << fmt(v[i].y, 2) << "]";
+            first = false;
+        }
+        o << "]";
+    };
+    o << "{\"lanes\":[";
+    for (size_t i = 0; i < net_.lanes().size(); ++i) {
+        const auto& l = net_.lanes()[i];
+        o << (i ? "," : "") << "{\"name\":\"" << l.name << "\",\"centre\":";
+        pts(l.centre);
+        o << ",\"left\":";
+        pts(l.left_bound);
+        o << ",\"right\":";
+        pts(l.right_bound);
+        if (l.stop_line_s) {
+            const auto p = net_.reference(l.id).point(*l.stop_line_s);
+            o << ",\"stop_line\":[" << fmt(p.x, 2) << "," << fmt(p.y, 2) << "]";
+        }
+        o << "}";
+    }
+    o << "],\"lights\":[";
+    for (size_t i = 0; i < net_.lights.size(); ++i) {
+        const auto& tl = net_.lights[i];
+        o << (i ? "," : "") << "{\"name\":\"" << tl.name << "\",\"position\":[" << fmt(tl.position.x, 2) << ","
+          << fmt(tl.position.y, 2) << "],\"lanes\":[";
+        for (size_t k = 0; k < tl.lanes.size(); ++k) o << (k ? "," : "") << "\"" << net_.lane(tl.lanes[k]).name << "\"";
+        o << "],\"program\":[";
+        if (auto it = programs_.find(tl.name); it != programs_.end()) {
+            for (size_t k = 0; k < it->second->phases.size(); ++k) {
+                const auto& ph = it->second->phases[k];
+                o << (k ? "," : "") << "{\"state\":\"" << ph.state << "\",\"duration\":" << fmt(ph.duration, 3) << "}";
+            }
+        }
+        o << "],\"offset\":" << fmt(programs_.count(tl.name) ? programs_.at(tl.name)->offset : 0.0, 3) << "}";
+    }
+    o << "]}\n";
+    return o.str();
 }
 
 // ---------------------------------------------------------------------------------- context
@@ -1077,6 +1129,7 @@ RunResult World::run() {
     out.events.push_back({out.duration, "timeout", {}, 0, ""});
     std::stable_sort(out.events.begin(), out.events.end(), [](const Event& a, const Event& b) { return a.time < b.time; });
     out.trajectories_csv = csv.str();
+    out.road_json = road_json();
     out.decisions_jsonl = std::move(decisions);
     out.timing.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     // Expectations.

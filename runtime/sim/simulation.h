@@ -72,6 +72,7 @@ struct RunResult {
     std::vector<VehicleMetrics> vehicles;
     std::vector<ExpectResult> expectations;
     std::string trajectories_csv;
+    std::string road_json;  // the road geometry and light programs of the run (road.json)
     std::string decisions_jsonl;
     Timing timing;
     bool passed() const;

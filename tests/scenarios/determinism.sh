@@ -15,7 +15,7 @@ for ex in "$root"/examples/*.sdv; do
     "$sdv" compile "$ex" -o "$dir/$name.sdvir" >/dev/null
     "$sdv" run "$dir/$name.sdvir" -o "$dir/$name.e" --threads 2 >/dev/null
     for run in b c d e; do
-        for f in trajectories.csv summary.json; do
+        for f in trajectories.csv summary.json road.json; do
             if ! cmp -s "$dir/$name.a/$f" "$dir/$name.$run/$f"; then
                 echo "FAIL $name: $f differs between run a and run $run"
                 fail=1

@@ -1,0 +1,128 @@
+#include "runtime/io/plot.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <vector>
+
+namespace sdv::io {
+namespace {
+
+struct Sample {
+    double t, x, y, speed;
+};
+
+const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf"};
+
+std::string f2(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.1f", v);
+    return buf;
+}
+
+}  // namespace
+
+std::string plot_run(const std::string& dir, std::string& error) {
+    std::ifstream rj(dir + "/road.json");
+    std::ifstream tc(dir + "/trajectories.csv");
+    if (!rj || !tc) {
+        error = "'" + dir + "' is not a run directory (needs road.json and trajectories.csv; run it with sdv run -o)";
+        return "";
+    }
+    std::stringstream rs;
+    rs << rj.rdbuf();
+    const auto road = nlohmann::json::parse(rs.str(), nullptr, false);
+    if (road.is_discarded() || !road.contains("lanes")) {
+        error = "invalid road.json in '" + dir + "'";
+        return "";
+    }
+    std::map<std::string, std::vector<Sample>> paths;  // ordered by vehicle name
+    std::vector<std::string> order;
+    std::string line;
+    std::getline(tc, line);
+    while (std::getline(tc, line)) {
+        std::vector<std::string> f;
+        std::stringstream ss(line);
+        std::string cell;
+        while (std::getline(ss, cell, ',')) f.push_back(cell);
+        if (f.size() < 8) continue;
+        if (!paths.count(f[2])) order.push_back(f[2]);
+        paths[f[2]].push_back({std::atof(f[0].c_str()), std::atof(f[4].c_str()), std::atof(f[5].c_str()), std::atof(f[7].c_str())});
+    }
+    // Extent of the map panel: the vehicles' paths plus a margin (whole maps can be huge).
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY, tmax = 1, vmax = 1;
+    for (const auto& [name, ps] : paths) {
+        for (const auto& p : ps) {
+            x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+            tmax = std::max(tmax, p.t), vmax = std::max(vmax, std::fabs(p.speed));
+        }
+    }
+    if (!std::isfinite(x0)) {
+        error = "no trajectory rows in '" + dir + "'";
+        return "";
+    }
+    const double margin = 15;
+    x0 -= margin, x1 += margin, y0 -= margin, y1 += margin;
+    const double W = 900, mapH = std::clamp(W * (y1 - y0) / (x1 - x0), 200.0, 600.0), plotH = 260, pad = 40;
+    const double sx = (W - 2 * pad) / (x1 - x0), sy = (mapH - 2 * pad) / (y1 - y0), s = std::min(sx, sy);
+    auto X = [&](double x) { return pad + (x - x0) * s; };
+    auto Y = [&](double y) { return mapH - pad - (y - y0) * s; };
+    std::ostringstream o;
+    o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << mapH + plotH << "\" font-family=\"sans-serif\" font-size=\"11\">\n";
+    o << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n<g id=\"road\" fill=\"none\">\n";
+    auto poly = [&](const nlohmann::json& pts, const char* style) {
+        if (!pts.is_array() || pts.size() < 2) return;
+        o << "<polyline " << style << " points=\"";
+        for (const auto& p : pts) {
+            if (p.is_array() && p.size() == 2 && p[0].is_number() && p[1].is_number()) {
+                const double px = p[0].get<double>(), py = p[1].get<double>();
+                if (px < x0 - 50 || px > x1 + 50 || py < y0 - 50 || py > y1 + 50) continue;
+                o << f2(X(px)) << "," << f2(Y(py)) << " ";
+            }
+        }
+        o << "\"/>\n";
+    };
+    for (const auto& l : road["lanes"]) {
+        poly(l.value("left", nlohmann::json()), "stroke=\"#bbb\"");
+        poly(l.value("right", nlohmann::json()), "stroke=\"#bbb\"");
+        poly(l.value("centre", nlohmann::json()), "stroke=\"#eee\" stroke-dasharray=\"4 4\"");
+    }
+    o << "</g>\n<g id=\"paths\" fill=\"none\" stroke-width=\"2\">\n";
+    for (size_t i = 0; i < order.size(); ++i) {
+        const auto& ps = paths[order[i]];
+        const char* c = kColours[i % 8];
+        o << "<polyline stroke=\"" << c << "\" points=\"";
+        for (size_t k = 0; k < ps.size(); k += 3) o << f2(X(ps[k].x)) << "," << f2(Y(ps[k].y)) << " ";
+        o << "\"/>\n<circle cx=\"" << f2(X(ps.front().x)) << "\" cy=\"" << f2(Y(ps.front().y)) << "\" r=\"4\" fill=\"" << c << "\"/>\n";
+        o << "<text x=\"" << f2(X(ps.back().x) + 5) << "\" y=\"" << f2(Y(ps.back().y) - 5) << "\" fill=\"" << c << "\" stroke=\"none\">" << order[i] << "</text>\n";
+    }
+    o << "</g>\n";
+    // Speed profiles.
+    const double top = mapH + 20, h = plotH - 60, left = pad + 20, w = W - left - pad;
+    o << "<g id=\"speeds\">\n<text x=\"" << left << "\" y=\"" << top - 5 << "\">speed (m/s) over time (s)</text>\n";
+    o << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << w << "\" height=\"" << h << "\" fill=\"none\" stroke=\"#999\"/>\n";
+    for (int k = 0; k <= 4; ++k) {
+        const double v = vmax * k / 4, yy = top + h - h * k / 4;
+        o << "<text x=\"" << left - 5 << "\" y=\"" << f2(yy + 4) << "\" text-anchor=\"end\">" << f2(v) << "</text>\n";
+        const double t = tmax * k / 4, xx = left + w * k / 4;
+        o << "<text x=\"" << f2(xx) << "\" y=\"" << f2(top + h + 15) << "\" text-anchor=\"middle\">" << f2(t) << "</text>\n";
+    }
+    for (size_t i = 0; i < order.size(); ++i) {
+        const auto& ps = paths[order[i]];
+        o << "<polyline fill=\"none\" stroke=\"" << kColours[i % 8] << "\" stroke-width=\"1.5\" points=\"";
+        for (size_t k = 0; k < ps.size(); k += 3) {
+            o << f2(left + w * ps[k].t / tmax) << "," << f2(top + h - h * std::fabs(ps[k].speed) / vmax) << " ";
+        }
+        o << "\"/>\n<text x=\"" << f2(left + w + 5) << "\" y=\"" << f2(top + 12 + 14 * static_cast<double>(i)) << "\" fill=\""
+          << kColours[i % 8] << "\">" << order[i] << "</text>\n";
+    }
+    o << "</g>\n</svg>\n";
+    return o.str();
+}
+
+}  // namespace sdv::io
