@@ -108,7 +108,7 @@ vehicleStmt
     | SPEED value                                         # vehSpeed
     | LENGTH value                                        # vehLength
     | WIDTH value                                         # vehWidth
-    | GOAL position                                       # vehGoal
+    | GOAL position (ENDS RUN)?                           # vehGoal
     | ROUTE laneRef (',' laneRef)*                        # vehRoute
     | TREE qualName '(' argList? ')'                      # vehTree
     | TRAJECTORY '{' waypoint* '}'                        # vehTrajectory
@@ -142,7 +142,7 @@ ident
     | MANEUVER | SUBTREE | FALLBACK | SEQUENCE | REACTIVE_SEQUENCE | PARALLEL | NOT | ONCE
     | SAMPLES | SCENARIO | TIMEOUT | SEED | RATE | EGO | VEHICLE | OBJECT | LIGHT | EXPECT
     | START | SPEED | LENGTH | WIDTH | GOAL | ROUTE | TRAJECTORY | AT | OFFSET | LANE | AND | OR
-    | LEFT | RIGHT
+    | LEFT | RIGHT | ENDS | RUN
     ;
 
 // ---------------------------------------------------------------- lexer
@@ -196,6 +196,8 @@ AND : 'and' ;
 OR : 'or' ;
 LEFT : 'left' ;
 RIGHT : 'right' ;
+ENDS : 'ends' ;
+RUN : 'run' ;
 
 PLUSMINUS : '±' | '+-' ;
 SUP2 : '²' ;

@@ -86,7 +86,7 @@ public:
                                      v.name.text + ": " + v.kind.text);
                 for (const auto& p : v.starts) line(2, p.range, "start " + position(p));
                 for (const auto& st : v.settings) setting(2, st);
-                for (const auto& p : v.goals) line(2, p.range, "goal " + position(p));
+                for (const auto& p : v.goals) line(2, p.range, "goal " + position(p) + (v.goal_ends_run ? " ends run" : ""));
                 for (const auto& r : v.routes) {
                     std::string t = "route";
                     for (const auto& l : r) t += " " + l.str();

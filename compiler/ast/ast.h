@@ -191,6 +191,7 @@ struct VehicleDecl {
     Ident kind;              // sdv / trajectory / static / external (objects: "static")
     std::vector<Position> starts;  // more than one is an error
     std::vector<Position> goals;
+    bool goal_ends_run = false;     // `goal ... ends run`
     std::vector<Setting> settings;  // speed, length, width
     std::vector<std::vector<LaneRef>> routes;
     std::vector<TreeRef> trees;

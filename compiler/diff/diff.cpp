@@ -213,6 +213,7 @@ std::vector<Change> diff_programs(const ir::Program& a, const ir::Program& b) {
                 out.back().what += " (" + num(std::fabs(w.start.s - v->start.s)) + " m " + (w.start.s > v->start.s ? "later" : "earlier") + ")";
             }
             field(out, who, "goal", v->goal ? position(*v->goal) : "(none)", w.goal ? position(*w.goal) : "(none)");
+            field(out, who, "goal ends run", v->goal_ends_run ? "yes" : "no", w.goal_ends_run ? "yes" : "no");
             field(out, who, "speed", num(v->speed) + " m/s", num(w.speed) + " m/s");
             field(out, who, "length", num(v->length) + " m", num(w.length) + " m");
             field(out, who, "width", num(v->width) + " m", num(w.width) + " m");

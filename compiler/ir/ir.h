@@ -147,6 +147,7 @@ struct Vehicle {
     double speed = 0.0;
     Position start;
     std::optional<Position> goal;
+    bool goal_ends_run = false;  // reaching the goal ends the run (GeoScenario's goal_ends_simulation)
     std::vector<std::string> route;  // lane names
     int32_t tree = -1;               // index into Program::instances; sdv only
     std::vector<Waypoint> trajectory;

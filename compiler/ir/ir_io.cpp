@@ -194,6 +194,7 @@ Json program_json(const Program& p) {
             vj["speed"] = v.speed;
             vj["start"] = position_json(v.start);
             if (v.goal) vj["goal"] = position_json(*v.goal);
+            if (v.goal_ends_run) vj["goal_ends_run"] = true;
             vj["route"] = v.route;
             vj["tree"] = v.tree;
             Json traj = Json::array();
@@ -535,6 +536,7 @@ public:
             v.speed = number(field(vj, "speed", vp), vp + ".speed");
             v.start = position(field(vj, "start", vp), vp + ".start", nf);
             if (has(vj, "goal")) v.goal = position(vj["goal"], vp + ".goal", nf);
+            if (has(vj, "goal_ends_run")) v.goal_ends_run = boolean(vj["goal_ends_run"], vp + ".goal_ends_run");
             const Json& route = array(field(vj, "route", vp), vp + ".route");
             for (size_t k = 0; k < route.size(); ++k) v.route.push_back(string(route[k], vp + ".route"));
             v.tree = static_cast<int32_t>(integer(field(vj, "tree", vp), vp + ".tree", -1, static_cast<int64_t>(p.instances.size()) - 1));

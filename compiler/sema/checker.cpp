@@ -1633,6 +1633,7 @@ private:
             d->notes.push_back({{}, "add e.g. 'start lane 1 at 20 m'"});
         }
         if (!v.goals.empty()) out.goal = check_position(v.goals[0], ctx, "the goal of " + what);
+        out.goal_ends_run = v.goal_ends_run && !v.goals.empty();
         if (!v.routes.empty()) {
             for (const auto& l : v.routes[0]) out.route.push_back(resolve_lane(l, ctx, "the route of " + what));
         }

@@ -4,6 +4,7 @@
 #include "compiler/syntax/parser.h"
 
 #include "compiler/diag/suggest.h"
+#include "compiler/syntax/utf8.h"
 #include "runtime/catalog/units.h"
 
 #include <SdvLexer.h>
@@ -21,55 +22,6 @@ namespace {
 using antlr4::Token;
 using sdv_antlr::SdvLexer;
 using sdv_antlr::SdvParser;
-
-// Returns the byte offset of the first invalid UTF-8 sequence, or npos.
-size_t find_invalid_utf8(std::string_view s) {
-    size_t i = 0;
-    while (i < s.size()) {
-        const auto c = static_cast<unsigned char>(s[i]);
-        size_t n = 0;
-        uint32_t cp = 0;
-        if (c < 0x80) {
-            ++i;
-            continue;
-        } else if ((c & 0xE0) == 0xC0) {
-            n = 1;
-            cp = c & 0x1Fu;
-        } else if ((c & 0xF0) == 0xE0) {
-            n = 2;
-            cp = c & 0x0Fu;
-        } else if ((c & 0xF8) == 0xF0) {
-            n = 3;
-            cp = c & 0x07u;
-        } else {
-            return i;
-        }
-        for (size_t k = 1; k <= n; ++k) {
-            if (i + k >= s.size()) return i;
-            const auto cc = static_cast<unsigned char>(s[i + k]);
-            if ((cc & 0xC0) != 0x80) return i;
-            cp = (cp << 6) | (cc & 0x3Fu);
-        }
-        // Overlong forms, surrogates and values beyond Unicode are invalid too.
-        if ((n == 1 && cp < 0x80) || (n == 2 && cp < 0x800) || (n == 3 && cp < 0x10000) ||
-            (cp >= 0xD800 && cp <= 0xDFFF) || cp > 0x10FFFF) {
-            return i;
-        }
-        i += n + 1;
-    }
-    return std::string_view::npos;
-}
-
-// Byte offset of every code point, plus one entry for the end of the text.
-std::vector<uint32_t> code_point_offsets(std::string_view s) {
-    std::vector<uint32_t> offs;
-    offs.reserve(s.size() + 1);
-    for (size_t i = 0; i < s.size(); ++i) {
-        if ((static_cast<unsigned char>(s[i]) & 0xC0) != 0x80) offs.push_back(static_cast<uint32_t>(i));
-    }
-    offs.push_back(static_cast<uint32_t>(s.size()));
-    return offs;
-}
 
 struct CancelParse : std::exception {};
 
@@ -589,6 +541,7 @@ private:
                 v.settings.push_back(setting(s4->WIDTH(), {s4->value()}, s4));
             } else if (auto* s5 = dynamic_cast<SdvParser::VehGoalContext*>(st)) {
                 v.goals.push_back(position(s5->position()));
+                v.goal_ends_run = v.goal_ends_run || s5->ENDS() != nullptr;
             } else if (auto* s6 = dynamic_cast<SdvParser::VehRouteContext*>(st)) {
                 std::vector<ast::LaneRef> route;
                 for (auto* l : s6->laneRef()) route.push_back(lane_ref(l));

@@ -335,7 +335,7 @@ std::vector<ConditionDef> build_conditions() {
              "ignore lights farther than this")});
     add("intersection_type", ConditionKind::intersection_type,
         "the next intersection on the route is of a type",
-        {choice("type", {"all_way_stop", "traffic_light", "yield", "none"}, std::nullopt,
+        {choice("type", {"all_way_stop", "traffic_light", "yield", "none", "pedestrian_crossing"}, std::nullopt,
                 "intersection type")});
     add("yield_role", ConditionKind::yield_role,
         "own lane's role at the next right-of-way element",
@@ -347,6 +347,14 @@ std::vector<ConditionDef> build_conditions() {
     add("all_way_stop_turn", ConditionKind::all_way_stop_turn,
         "at an all-way stop, it is own turn (first come, first served; ties by vehicle order)",
         {});
+    add("out_of_route", ConditionKind::out_of_route,
+        "own lane is not on the route to the goal (routes are re-planned as the vehicle moves, so "
+        "this holds only while no route from the current lane exists)",
+        {});
+    add("wait", ConditionKind::wait,
+        "a timer: SUCCESS once the node has been ticked on every planning cycle for a time, "
+        "FAILURE before (a cycle that skips the node restarts it)",
+        {qty("time", Dim::time, DefaultValue{1}, 0, 1e4, "time to wait")});
     return cs;
 }
 

@@ -88,6 +88,8 @@ enum class ConditionKind {
     yield_role,
     intersection_occupied,
     all_way_stop_turn,
+    out_of_route,
+    wait,
 };
 
 struct ConditionDef {

@@ -315,6 +315,10 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
             int count = 0;
             for (const auto& m : rel.members) {
                 if (m.role == "refers" && m.type == "way" && ways.count(m.ref)) {
+                    // GeoScenario scenarios bind their light programs by the light way's name.
+                    if (auto nm = ways[m.ref].tags.find("name"); nm != ways[m.ref].tags.end() && !nm->second.empty()) {
+                        tl.name = nm->second;
+                    }
                     for (Id nd : ways[m.ref].nodes) {
                         sum = sum + nodes.at(nd);
                         ++count;
@@ -387,6 +391,13 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
     if (r.drivable == 0 && r.errors.empty()) r.errors.push_back("the map has no drivable lanelet");
     if (r.errors.empty()) r.network = std::move(net);
     return r;
+}
+
+Vec2 project(const GeoOrigin& origin, double lat, double lon) {
+    GeographicLib::LocalCartesian proj(origin.lat, origin.lon, origin.alt);
+    double x, y, z;
+    proj.Forward(lat, lon, origin.alt, x, y, z);
+    return {x, y};
 }
 
 }  // namespace sdv::road

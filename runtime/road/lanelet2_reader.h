@@ -28,6 +28,10 @@ struct LoadResult {
 };
 
 LoadResult load_lanelet2(const std::string& path, std::optional<GeoOrigin> origin = std::nullopt);
+// A geographic position in the map frame of `origin`: the projection the reader applies to
+// every map node (GeoScenario files place vehicles and goals with it).
+Vec2 project(const GeoOrigin& origin, double lat, double lon);
+
 LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origin = std::nullopt);
 
 }  // namespace sdv::road

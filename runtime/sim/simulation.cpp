@@ -91,10 +91,13 @@ struct Agent {
     LaneId goal_lane = kNoLane;
     double goal_s = 0;
     bool goal_reached = false;
+    double goal_dist = -1;  // along-track distance to the goal once within reach (< 0: not yet)
     int32_t maneuver = -1;  // selected node
     std::string maneuver_name = "none";
     LaneId target_lane = kNoLane;  // of a running lane change / cut-in
     uint32_t plan_count = 0;
+    // `wait` timers: node index → (time first ticked, plan_count of the last tick).
+    std::map<int32_t, std::pair<double, uint32_t>> waits;
     // Per-cycle results (written by the planning thread, applied in order).
     std::string trace;
     bool fallback = false;
@@ -154,9 +157,23 @@ public:
     void plan_agent(Agent& a, double t0);
     void place(Agent& a, const road::CartesianState& c, std::optional<double> lane_heading = std::nullopt);
     std::string init_position(Agent& a, const ir::Position& pos, LaneId& lane, double& s);
+    // |goal s − own s| along the vehicle's path (or its lane); nullopt when the goal lane is
+    // not ahead on it.
+    std::optional<double> goal_distance(const Agent& a) const;
 };
 
 // ---------------------------------------------------------------------------------- world
+
+std::optional<double> World::goal_distance(const Agent& a) const {
+    if (a.v->kind == ir::VehicleKind::sdv && a.ref) {
+        for (size_t i = 0; i < a.path.size(); ++i) {
+            if (a.path[i] == a.goal_lane) return std::fabs(a.path_start[i] + a.goal_s - a.ref_s);
+        }
+        return std::nullopt;
+    }
+    if (a.lane != a.goal_lane) return std::nullopt;
+    return std::fabs(a.goal_s - a.lane_s);
+}
 
 std::string World::light_state(int32_t light, double t) const {
     if (light < 0 || static_cast<size_t>(light) >= net_.lights.size()) return "green";
@@ -325,7 +342,16 @@ std::string World::init() {
     // Reference lines are built lazily by the network: build them all now, before any thread
     // reads them.
     for (const auto& l : net_.lanes()) (void)net_.reference(l.id);
-    for (const auto& l : sc_.lights) programs_[l.name] = &l;
+    for (const auto& l : sc_.lights) {
+        programs_[l.name] = &l;
+        const bool known = std::any_of(net_.lights.begin(), net_.lights.end(), [&](const road::TrafficLight& x) { return x.name == l.name; });
+        if (!known) {
+            std::string names;
+            for (const auto& x : net_.lights) names += (names.empty() ? "" : ", ") + x.name;
+            return loc_text(p_, l.loc) + ": the road has no traffic light '" + l.name + "' (its lights: " +
+                   (names.empty() ? "none" : names) + ")";
+        }
+    }
 
     agents_.resize(sc_.vehicles.size());
     for (size_t i = 0; i < sc_.vehicles.size(); ++i) {
@@ -705,6 +731,18 @@ bool Context::condition(const ir::Node& n, int32_t index) {
             }
             return false;
         }
+        case ConditionKind::out_of_route: {
+            if (a_.goal_lane == kNoLane) return false;
+            const bool on = std::find(a_.path.begin(), a_.path.end(), a_.lane) != a_.path.end() &&
+                            std::find(a_.path.begin(), a_.path.end(), a_.goal_lane) != a_.path.end();
+            return !on;
+        }
+        case ConditionKind::wait: {
+            auto [it, fresh] = a_.waits.try_emplace(index, t0_, a_.plan_count);
+            if (!fresh && it->second.second + 1 != a_.plan_count && it->second.second != a_.plan_count) it->second.first = t0_;
+            it->second.second = a_.plan_count;
+            return t0_ - it->second.first >= num(n, "time") - 1e-9;
+        }
         case ConditionKind::all_way_stop_turn: {
             // First come, first served among vehicles stopped at all-way-stop lines; ties by
             // vehicle order. The junction must be clear.
@@ -962,6 +1000,8 @@ RunResult World::run() {
     csv << "time,tick,vehicle,kind,x,y,yaw,speed,accel,s,d,lane,maneuver\n";
     std::string decisions;
     const int threads = std::max(1, opt_.threads);
+    bool ended = false;  // a vehicle whose goal ends the run reached it
+    int last_tick = 0;
     for (int tick = 0; tick <= total_ticks; ++tick) {
         const auto tick0 = std::chrono::steady_clock::now();
         const double t = tick * dt_;
@@ -1070,10 +1110,21 @@ RunResult World::run() {
             vm.max_acc = std::max(vm.max_acc, std::fabs(a.accel));
             if (tick > 0) vm.max_jerk = std::max(vm.max_jerk, std::fabs(a.accel - a.prev_accel) / dt_);
             a.prev_accel = a.accel;
-            if (a.goal_lane != kNoLane && !a.goal_reached && a.lane == a.goal_lane && a.lane_s >= a.goal_s - 2.0 && std::fabs(a.lane_d) < 2.0) {
-                a.goal_reached = true;
-                vm.reached_goal = true;
-                out.events.push_back({t, std::fabs(a.speed) > 1.0 && a.lane_s > a.goal_s + 4 ? "goal_overshot" : "goal_reached", {static_cast<int>(i)}, 0, ""});
+            if (a.goal_lane != kNoLane && !a.goal_reached) {
+                // Within 4 m along and 2 m across the goal the vehicle may keep closing in; the
+                // goal is reached when the along-track distance stops decreasing (overshot when
+                // it is then faster than 1 m/s), as in the reference implementation.
+                const std::optional<double> dist = goal_distance(a);
+                if (dist && (a.goal_dist >= 0 || (*dist <= 4.0 && std::fabs(a.lane_d) <= 2.0))) {
+                    if (a.goal_dist >= 0 && *dist >= a.goal_dist - 1e-9) {
+                        a.goal_reached = true;
+                        vm.reached_goal = true;
+                        out.events.push_back({t, std::fabs(a.speed) > 1.0 ? "goal_overshot" : "goal_reached", {static_cast<int>(i)}, 0, ""});
+                        if (a.v->goal_ends_run) ended = true;
+                    } else {
+                        a.goal_dist = *dist;
+                    }
+                }
             }
         }
         // 4. Output rows.
@@ -1086,7 +1137,8 @@ RunResult World::run() {
                 << fmt(a.yaw) << "," << fmt(a.speed) << "," << fmt(a.accel) << "," << fmt(a.lane_s) << "," << fmt(a.lane_d) << ","
                 << (a.lane != kNoLane ? net_.lane(a.lane).name : "") << "," << (a.v->kind == ir::VehicleKind::sdv ? a.maneuver_name : "") << "\n";
         }
-        if (tick == total_ticks) break;
+        last_tick = tick;
+        if (tick == total_ticks || ended) break;
         // 5. Planning of the SDVs due at this tick, in parallel, applied in vehicle order.
         std::vector<Agent*> due;
         for (Agent& a : agents_) {
@@ -1123,10 +1175,10 @@ RunResult World::run() {
         }
         if (opt_.progress && tick % 30 == 0) opt_.progress(static_cast<double>(tick) / total_ticks);
     }
-    out.ticks = total_ticks;
-    out.duration = total_ticks * dt_;
-    out.timed_out = true;
-    out.events.push_back({out.duration, "timeout", {}, 0, ""});
+    out.ticks = last_tick;
+    out.duration = last_tick * dt_;
+    out.timed_out = !ended;
+    if (out.timed_out) out.events.push_back({out.duration, "timeout", {}, 0, ""});
     std::stable_sort(out.events.begin(), out.events.end(), [](const Event& a, const Event& b) { return a.time < b.time; });
     out.trajectories_csv = csv.str();
     out.road_json = road_json();

@@ -1,0 +1,858 @@
+// Lowering of .btree trees to .sdv text: the mapping of the reference's conditions, MConfig
+// classes and value forms onto the catalog (docs/geoscenario.md documents the same table).
+#include "compiler/gss/lower.h"
+
+#include "compiler/diag/suggest.h"
+#include "runtime/catalog/catalog.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+
+namespace sdv::compiler::gss {
+namespace fs = std::filesystem;
+namespace {
+
+std::string num_text(double v) {
+    if (v == 0) return "0";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.10g", v);
+    return buf;
+}
+
+std::string upper(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return s;
+}
+
+// The unit the catalog gives a parameter, as written in .sdv ("m/s"; "" for plain numbers).
+std::string unit_of(const catalog::ParamDef& p) {
+    if (p.type != catalog::ParamType::quantity) return "";
+    return std::string(catalog::si_unit(p.dim));
+}
+
+std::string with_unit(double v, const std::string& unit) { return unit.empty() ? num_text(v) : num_text(v) + " " + unit; }
+
+// One lowered argument: `name = text`.
+struct Arg {
+    std::string name;
+    std::string text;
+};
+
+// The reading of one call's arguments: lookups by name (with the reference's aliases), each
+// marking the item used; what is left is reported by finish().
+class Args {
+public:
+    Args(const BtValue& call, diag::DiagnosticEngine& diags, std::string what)
+        : call_(call), diags_(diags), what_(std::move(what)), used_(call.items.size(), false) {}
+
+    const BtItem* take(std::initializer_list<const char*> names) {
+        for (size_t i = 0; i < call_.items.size(); ++i) {
+            const auto& it = call_.items[i];
+            if (!it.key) continue;
+            for (const char* n : names) {
+                if (*it.key == n) {
+                    used_[i] = true;
+                    return &it;
+                }
+            }
+        }
+        return nullptr;
+    }
+
+    // Leftover named items: an error when `strict` (MConfig classes reject unknown fields),
+    // otherwise a warning (the reference's conditions ignore what they do not read).
+    // Positional items are always errors.
+    void finish(bool strict, const std::vector<std::string>& known) {
+        for (size_t i = 0; i < call_.items.size(); ++i) {
+            if (used_[i]) continue;
+            const auto& it = call_.items[i];
+            if (!it.key) {
+                diags_.error("E0906", it.range, "unexpected positional value in " + what_)
+                    .notes.push_back({{}, "arguments of " + what_ + " are written name=value"});
+                continue;
+            }
+            if (strict) {
+                auto& d = diags_.error("E0903", it.key_range, "unknown parameter '" + *it.key + "' of " + what_);
+                if (auto m = diag::closest_match(*it.key, known)) d.notes.push_back({{}, "did you mean '" + *m + "'?"});
+                d.notes.push_back({{}, "known parameters: " + join(known)});
+            } else {
+                auto& d = diags_.warning("W0901", "gss-ignored-parameter", it.key_range,
+                                         "parameter '" + *it.key + "' of " + what_ + " is ignored");
+                if (auto m = diag::closest_match(*it.key, known)) d.notes.push_back({{}, "did you mean '" + *m + "'?"});
+                d.notes.push_back({{}, "the reference ignores it as well; sdv reads: " + join(known)});
+            }
+        }
+    }
+
+    const std::string& what() const { return what_; }
+
+private:
+    static std::string join(const std::vector<std::string>& v) {
+        std::string s;
+        for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+        return s.empty() ? "(none)" : s;
+    }
+
+    const BtValue& call_;
+    diag::DiagnosticEngine& diags_;
+    std::string what_;
+    std::vector<bool> used_;
+};
+
+// Value conversions. Each reports E0906 at the value and returns nullopt when the shape is wrong.
+class Values {
+public:
+    explicit Values(diag::DiagnosticEngine& diags) : diags_(diags) {}
+
+    std::optional<double> number(const BtItem& it) {
+        const BtValue& v = it.value;
+        if (v.kind == BtValue::Kind::number) return v.number;
+        if (v.kind == BtValue::Kind::call && v.text == "MP" && v.items.size() == 1 &&
+            v.items[0].value.kind == BtValue::Kind::number) {
+            return v.items[0].value.number;
+        }
+        if (v.kind == BtValue::Kind::name && (v.text == "True" || v.text == "False")) return v.text == "True" ? 1 : 0;
+        bad(it, "a number");
+        return std::nullopt;
+    }
+
+    std::optional<std::string> quantity(const BtItem& it, const std::string& unit) {
+        auto n = number(it);
+        if (!n) return std::nullopt;
+        return with_unit(*n, unit);
+    }
+
+    std::optional<std::string> integer(const BtItem& it) {
+        auto n = number(it);
+        if (!n) return std::nullopt;
+        return num_text(std::round(*n));
+    }
+
+    std::optional<std::string> boolean(const BtItem& it) {
+        const BtValue& v = it.value;
+        if (v.kind == BtValue::Kind::name && (v.text == "True" || v.text == "False" || v.text == "true" || v.text == "false")) {
+            return v.text == "True" || v.text == "true" ? "true" : "false";
+        }
+        if (v.kind == BtValue::Kind::number && (v.number == 0 || v.number == 1)) return v.number == 1 ? "true" : "false";
+        bad(it, "True, False, 1 or 0");
+        return std::nullopt;
+    }
+
+    // MP(value, bound %, samples[, method[, sigma]]) or a plain number.
+    std::optional<std::string> sampled(const BtItem& it, const std::string& unit) {
+        const BtValue& v = it.value;
+        if (v.kind == BtValue::Kind::number) return with_unit(v.number, unit);
+        if (v.kind != BtValue::Kind::call || v.text != "MP" || v.items.empty() || v.items.size() > 5) {
+            bad(it, "a number or MP(value, bound%, samples[, method, sigma])");
+            return std::nullopt;
+        }
+        double a[5] = {0, 0, 1, 1, 1};
+        for (size_t i = 0; i < v.items.size(); ++i) {
+            if (v.items[i].key || v.items[i].value.kind != BtValue::Kind::number) {
+                bad(v.items[i], "a number");
+                return std::nullopt;
+            }
+            a[i] = v.items[i].value.number;
+        }
+        std::string s = with_unit(a[0], unit);
+        const int n = static_cast<int>(std::lround(a[2]));
+        if (a[1] <= 0 || n <= 1) return s;
+        s += " ±" + num_text(a[1]) + "% samples " + std::to_string(n);
+        return s + method(static_cast<int>(std::lround(a[3])), a[4], unit, v.items.size() > 3 ? &v.items[3] : nullptr);
+    }
+
+    // LT(target, samples, method, sigma, limit_lane_width, limit_vehicle_size) or a number: the
+    // lateral target as an offset from the lane centre. The reference spreads several samples
+    // over the lane width less the vehicle's radius; sdv spreads them ±0.75 m about the target
+    // (that width on a 3.5 m lane).
+    std::optional<std::string> lateral(const BtItem& it) {
+        const BtValue& v = it.value;
+        if (v.kind == BtValue::Kind::number) return with_unit(v.number, "m");
+        if (v.kind != BtValue::Kind::call || v.text != "LT" || v.items.empty() || v.items.size() > 6) {
+            bad(it, "a number or LT(target, samples, method, sigma, limit_lane, limit_size)");
+            return std::nullopt;
+        }
+        double a[6] = {0, 1, 3, 1, 1, 1};
+        for (size_t i = 0; i < v.items.size(); ++i) {
+            if (v.items[i].key || v.items[i].value.kind != BtValue::Kind::number) {
+                bad(v.items[i], "a number");
+                return std::nullopt;
+            }
+            a[i] = v.items[i].value.number;
+        }
+        std::string s = with_unit(a[0], "m");
+        const int n = static_cast<int>(std::lround(a[1]));
+        if (n <= 1) return s;
+        // The reference's default sampling for LT is NORMAL.
+        return s + " ±0.75 m samples " + std::to_string(n) +
+               method(static_cast<int>(std::lround(a[2])), a[3], "m", v.items.size() > 2 ? &v.items[2] : nullptr);
+    }
+
+    // LEFT / RIGHT / 1 / -1 → left / right.
+    std::optional<std::string> side(const BtItem& it) {
+        const BtValue& v = it.value;
+        if (v.kind == BtValue::Kind::name) {
+            const std::string u = upper(v.text);
+            if (u == "LEFT") return "left";
+            if (u == "RIGHT") return "right";
+        }
+        if (v.kind == BtValue::Kind::number && (v.number == 1 || v.number == -1)) return v.number > 0 ? "left" : "right";
+        bad(it, "LEFT, RIGHT, 1 or -1");
+        return std::nullopt;
+    }
+
+    // A vehicle id → the name the scenario converter gives it.
+    std::optional<std::string> vehicle_id(const BtItem& it) {
+        auto n = number(it);
+        if (!n) return std::nullopt;
+        return "v" + num_text(std::round(*n));
+    }
+
+    // An occupancy zone → the catalog's zone word.
+    std::optional<std::string> zone(const BtItem& it) {
+        static const std::map<std::string, std::string> kZones = {
+            {"FRONT", "front"}, {"BACK", "back"}, {"LEFT", "left"}, {"RIGHT", "right"},
+            {"LEFT_FRONT", "front_left"}, {"FRONT_LEFT", "front_left"}, {"RIGHT_FRONT", "front_right"},
+            {"FRONT_RIGHT", "front_right"}, {"LEFT_BACK", "back_left"}, {"BACK_LEFT", "back_left"},
+            {"RIGHT_BACK", "back_right"}, {"BACK_RIGHT", "back_right"}};
+        if (it.value.kind == BtValue::Kind::name) {
+            if (auto f = kZones.find(upper(it.value.text)); f != kZones.end()) return f->second;
+        }
+        bad(it, "a zone (FRONT, BACK, LEFT, RIGHT, LEFT_FRONT, RIGHT_FRONT, LEFT_BACK, RIGHT_BACK)");
+        return std::nullopt;
+    }
+
+    // A named constant among `choices` (case-insensitive), or its number.
+    std::optional<std::string> constant(const BtItem& it, const std::vector<std::pair<std::string, std::string>>& choices,
+                                        const std::map<int, std::string>& numbers = {}) {
+        if (it.value.kind == BtValue::Kind::name) {
+            for (const auto& [k, v] : choices) {
+                if (upper(it.value.text) == k) return v;
+            }
+        }
+        if (it.value.kind == BtValue::Kind::number) {
+            if (auto f = numbers.find(static_cast<int>(std::lround(it.value.number))); f != numbers.end()) return f->second;
+        }
+        std::string list;
+        for (const auto& [k, v] : choices) list += (list.empty() ? "" : ", ") + k;
+        bad(it, "one of " + list);
+        return std::nullopt;
+    }
+
+    void bad(const BtItem& it, const std::string& expected) {
+        diags_.error("E0906", it.value.range, "invalid value" + (it.key ? " for '" + *it.key + "'" : std::string()))
+            .notes.push_back({{}, "expected " + expected});
+    }
+
+private:
+    // The reference's SamplingMethod: 1 linear, 2 uniform, 3 normal (σ in the value's unit).
+    std::string method(int m, double sigma, const std::string& unit, const BtItem* at) {
+        switch (m) {
+            case 1: return "";
+            case 2: return " uniform";
+            case 3: return " normal(" + with_unit(sigma, unit) + ")";
+            default:
+                if (at != nullptr) bad(*at, "a sampling method: 1 (linear), 2 (uniform) or 3 (normal)");
+                return "";
+        }
+    }
+
+    diag::DiagnosticEngine& diags_;
+};
+
+// ------------------------------------------------------------------ MConfig classes
+
+enum class Conv { sampled, quantity, integer, boolean, side, vehicle, stop_target, lateral, delta_s, ignore_if_zero, ignore };
+
+struct FieldMap {
+    const char* ref;
+    const char* ours;  // catalog parameter ("" for ignored fields)
+    Conv conv;
+};
+
+struct ClassMap {
+    const char* mconfig;
+    const char* maneuver;
+    std::vector<FieldMap> fields;
+};
+
+// Fields every MConfig has.
+const std::vector<FieldMap>& common_fields() {
+    static const std::vector<FieldMap> k = {
+        {"max_long_jerk", "max_long_jerk", Conv::quantity},
+        {"max_lat_jerk", "max_lat_jerk", Conv::quantity},
+        {"max_long_acc", "max_long_acc", Conv::quantity},
+        {"max_lat_acc", "max_lat_acc", Conv::quantity},
+        {"lat_target", "lat_offset", Conv::lateral},
+        {"cost_precision", "eval_points", Conv::integer},
+        {"fc_collision", "collision", Conv::boolean},
+        {"fc_off_lane", "off_lane", Conv::boolean},
+        {"lane_offset_cost", "w_lane_offset", Conv::quantity},
+        {"expected_offset_per_sec", "expected_offset", Conv::quantity},
+        {"expected_long_acc_per_sec", "expected_acc", Conv::quantity},
+        {"expected_long_jerk_per_sec", "expected_jerk", Conv::quantity},
+        {"expected_lat_acc_per_sec", "", Conv::ignore},
+        {"expected_lat_jerk_per_sec", "", Conv::ignore},
+        {"use_low_level_planner", "", Conv::ignore},
+    };
+    return k;
+}
+
+const std::vector<ClassMap>& classes() {
+    static const std::vector<ClassMap> k = {
+        {"MVelKeepConfig", "keep_velocity",
+         {{"vel", "speed", Conv::sampled}, {"time", "duration", Conv::sampled},
+          {"max_diff", "max_speed_change", Conv::quantity}, {"time_lowvel", "", Conv::ignore},
+          {"vel_threshold", "", Conv::ignore}}},
+        {"MFollowConfig", "follow",
+         {{"target_vid", "leader", Conv::vehicle}, {"time", "duration", Conv::sampled},
+          {"time_gap", "time_gap", Conv::quantity}, {"stop_distance", "stop_distance", Conv::quantity},
+          {"decel", "", Conv::ignore}}},
+        {"MLaneSwerveConfig", "lane_change", {{"target_lid", "lane", Conv::side}, {"time", "duration", Conv::sampled}}},
+        {"MCutInConfig", "cut_in",
+         {{"target_vid", "target", Conv::vehicle}, {"target_lid", "lane", Conv::side},
+          {"time", "duration", Conv::sampled}, {"delta_s", "delta_s", Conv::delta_s},
+          {"delta_d", "", Conv::ignore_if_zero}}},
+        {"MStopConfig", "stop",
+         {{"target", "at", Conv::stop_target}, {"distance", "distance", Conv::quantity},
+          {"pos", "position", Conv::quantity}, {"max_deceleration", "", Conv::ignore},
+          {"decel", "", Conv::ignore}, {"time", "", Conv::ignore}}},
+        {"MReverseConfig", "reverse", {{"vel", "speed", Conv::sampled}, {"time", "duration", Conv::sampled}}},
+    };
+    return k;
+}
+
+const ClassMap* find_class(const std::string& name) {
+    for (const auto& c : classes()) {
+        if (name == c.mconfig) return &c;
+    }
+    return nullptr;
+}
+
+std::vector<std::string> class_names() {
+    std::vector<std::string> v;
+    for (const auto& c : classes()) v.emplace_back(c.mconfig);
+    return v;
+}
+
+// The catalog parameters a configuration call sets, as `name = text`; nullopt after errors.
+std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap& cm, diag::DiagnosticEngine& diags) {
+    const size_t before = diags.error_count();
+    const catalog::ManeuverDef* m = catalog::find_maneuver(cm.maneuver);
+    Args args(call, diags, cm.mconfig);
+    Values val(diags);
+    std::vector<Arg> out;
+    std::vector<std::string> known;
+    std::vector<FieldMap> fields = cm.fields;
+    fields.insert(fields.end(), common_fields().begin(), common_fields().end());
+    for (const FieldMap& f : fields) {
+        known.emplace_back(f.ref);
+        const BtItem* it = args.take({f.ref});
+        if (it == nullptr) continue;
+        const catalog::ParamDef* p = *f.ours ? m->find_param(f.ours) : nullptr;
+        std::optional<std::string> text;
+        switch (f.conv) {
+            case Conv::sampled: text = val.sampled(*it, unit_of(*p)); break;
+            case Conv::quantity: text = val.quantity(*it, unit_of(*p)); break;
+            case Conv::integer: text = val.integer(*it); break;
+            case Conv::boolean: text = val.boolean(*it); break;
+            case Conv::side: text = val.side(*it); break;
+            case Conv::vehicle: text = val.vehicle_id(*it); break;
+            case Conv::lateral: text = val.lateral(*it); break;
+            case Conv::stop_target:
+                text = val.constant(*it, {{"GOAL_POINT", "goal"}, {"GOAL", "goal"}, {"STOP_LINE", "stop_line"},
+                                          {"NOW", "now"}, {"S_POS", "position"}, {"POS", "position"}},
+                                    {{0, "now"}, {1, "position"}, {2, "goal"}, {3, "stop_line"}});
+                break;
+            case Conv::delta_s: {
+                // (s, v, a) of the final state relative to the target.
+                const BtValue& v = it->value;
+                if (v.kind != BtValue::Kind::tuple || v.items.empty() || v.items.size() > 3) {
+                    val.bad(*it, "a tuple (s, v, a)");
+                    break;
+                }
+                static const char* kNames[] = {"delta_s", "delta_v", "delta_a"};
+                for (size_t i = 0; i < v.items.size(); ++i) {
+                    auto q = val.quantity(v.items[i], unit_of(*m->find_param(kNames[i])));
+                    if (q) out.push_back({kNames[i], *q});
+                }
+                continue;
+            }
+            case Conv::ignore_if_zero: {
+                bool zero = it->value.kind == BtValue::Kind::tuple;
+                for (const auto& e : it->value.items) zero = zero && e.value.kind == BtValue::Kind::number && e.value.number == 0;
+                if (!zero) {
+                    diags.warning("W0901", "gss-ignored-parameter", it->key_range,
+                                  "parameter '" + std::string(f.ref) + "' of " + cm.mconfig + " is ignored")
+                        .notes.push_back({{}, "sdv plans lateral motion to the target lane's centre plus lat_offset"});
+                }
+                continue;
+            }
+            case Conv::ignore:
+                diags.warning("W0901", "gss-ignored-parameter", it->key_range,
+                              "parameter '" + std::string(f.ref) + "' of " + cm.mconfig + " is ignored")
+                    .notes.push_back({{}, "sdv's planner has no equivalent setting"});
+                continue;
+        }
+        if (text) out.push_back({f.ours, *text});
+    }
+    args.finish(true, known);
+    if (diags.error_count() > before) return std::nullopt;
+    // A cut-in needs a target vehicle; the reference also accepts only a target lane, where the
+    // vehicle cut in front of is the one beside in that lane.
+    if (std::string(cm.maneuver) == "cut_in") {
+        bool has_target = false, has_lane = false;
+        std::string lane;
+        for (const auto& a : out) {
+            has_target = has_target || a.name == "target";
+            if (a.name == "lane") {
+                has_lane = true;
+                lane = a.text;
+            }
+        }
+        if (!has_target) {
+            if (!has_lane) {
+                diags.error("E0906", call.range, "MCutInConfig needs target_vid or target_lid");
+                return std::nullopt;
+            }
+            out.insert(out.begin(), {"target", lane});
+        }
+    }
+    return out;
+}
+
+// ------------------------------------------------------------------ conditions
+
+struct CondOut {
+    std::string name;
+    std::vector<Arg> args;
+    bool negate = false;
+    bool once = false;
+    bool drop = false;     // an action the .sdv model does implicitly (set_target_lane)
+    std::string comment;   // kept above the node in the output
+};
+
+using CondLower = std::function<void(Args&, Values&, CondOut&)>;
+
+struct CondMap {
+    const char* ref;
+    std::vector<std::string> reads;  // parameters sdv reads (for messages)
+    CondLower lower;
+};
+
+void opt(std::vector<Arg>& out, const char* name, const std::optional<std::string>& text) {
+    if (text) out.push_back({name, *text});
+}
+
+// The vehicle a condition observes: vid=N, or zid=ZONE.
+bool vehicle_arg(Args& a, Values& v, CondOut& o, const char* name = "vehicle") {
+    if (const auto* it = a.take({"vid"})) {
+        opt(o.args, name, v.vehicle_id(*it));
+        return true;
+    }
+    if (const auto* it = a.take({"zid"})) {
+        opt(o.args, name, v.zone(*it));
+        return true;
+    }
+    return false;
+}
+
+bool repeat_false(Args& a, Values& v) {
+    if (const auto* it = a.take({"repeat"})) {
+        auto b = v.boolean(*it);
+        return b && *b == "false";
+    }
+    return false;
+}
+
+const std::vector<CondMap>& condition_map() {
+    static const std::vector<CondMap> k = {
+        {"sim_time", {"t", "tmin", "tmax", "repeat"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "sim_time";
+             if (const auto* t = a.take({"t"})) {
+                 // An exact time, accepted up to one planning cycle late.
+                 if (auto n = v.number(*t)) {
+                     o.args.push_back({"after", with_unit(*n, "s")});
+                     o.args.push_back({"before", with_unit(*n + 1.0 / 3.0, "s")});
+                 }
+             }
+             if (const auto* t = a.take({"tmin"})) opt(o.args, "after", v.quantity(*t, "s"));
+             if (const auto* t = a.take({"tmax"})) opt(o.args, "before", v.quantity(*t, "s"));
+             if (o.args.empty()) o.args.push_back({"after", "0 s"});
+             o.once = repeat_false(a, v);
+         }},
+        {"reached_goal", {"distance"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "reached_goal";
+             const auto* d = a.take({"distance"});
+             o.args.push_back({"distance", d ? v.quantity(*d, "m").value_or("40 m") : "40 m"});
+         }},
+        {"at_lane_change_segment", {}, [](Args&, Values&, CondOut& o) { o.name = "at_lane_change_segment"; }},
+        {"target_lane", {"lid"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "at_lane_change_segment";
+             if (const auto* it = a.take({"lid", "target_lid", "target_lane_id", "target_lane"})) opt(o.args, "lane", v.side(*it));
+         }},
+        {"out_of_route", {}, [](Args&, Values&, CondOut& o) { o.name = "out_of_route"; }},
+        {"reroute", {},
+         [](Args&, Values&, CondOut& o) {
+             o.name = "out_of_route";
+             o.comment = "reroute(): sdv re-plans routes by itself; the node succeeds when off the route";
+         }},
+        {"set_target_lane", {"lid"},
+         [](Args& a, Values& v, CondOut& o) {
+             if (const auto* it = a.take({"lid", "target_lid", "target_lane_id", "target_lane"})) v.side(*it);
+             o.drop = true;
+         }},
+        {"can_lane_change", {"lid", "gap"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "can_lane_change";
+             if (const auto* it = a.take({"lid", "target_lid", "target_lane_id", "target_lane"})) opt(o.args, "lane", v.side(*it));
+             const auto* g = a.take({"gap", "distance_gap"});
+             o.args.push_back({"gap", g ? v.quantity(*g, "m").value_or("20 m") : "20 m"});
+         }},
+        {"lane_occupied", {"zid", "lid", "distance"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "lane_occupied";
+             if (const auto* it = a.take({"zid"})) {
+                 if (auto z = v.zone(*it)) {
+                     const bool left = z->find("left") != std::string::npos, right = z->find("right") != std::string::npos;
+                     o.args.push_back({"lane", left ? "left" : right ? "right" : "current"});
+                 }
+             } else if (const auto* l = a.take({"lid"})) {
+                 opt(o.args, "lane", v.side(*l));
+             }
+             if (const auto* d = a.take({"distance"})) opt(o.args, "distance", v.quantity(*d, "m"));
+         }},
+        {"vehicle_moving", {"vid", "zid", "vel"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "vehicle_moving";
+             vehicle_arg(a, v, o);
+             const auto* s = a.take({"vel"});
+             o.args.push_back({"min_speed", s ? v.quantity(*s, "m/s").value_or("0.05 m/s") : "0.05 m/s"});
+         }},
+        {"vehicle_stopped", {"vid", "zid", "vel"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "vehicle_stopped";
+             vehicle_arg(a, v, o);
+             const auto* s = a.take({"vel"});
+             o.args.push_back({"max_speed", s ? v.quantity(*s, "m/s").value_or("0.05 m/s") : "0.05 m/s"});
+         }},
+        {"vehicle_parked", {"vid", "zid"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "vehicle_parked";
+             vehicle_arg(a, v, o);
+         }},
+        {"lv_stopped", {}, [](Args&, Values&, CondOut& o) {
+             o.name = "vehicle_stopped";
+             o.args = {{"vehicle", "front"}, {"max_speed", "0.05 m/s"}};
+         }},
+        {"lv_moving", {}, [](Args&, Values&, CondOut& o) {
+             o.name = "vehicle_moving";
+             o.args = {{"vehicle", "front"}, {"min_speed", "0.05 m/s"}};
+         }},
+        {"approaching_intersection", {"distance"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "approaching_stop";
+             const auto* d = a.take({"distance"});
+             o.args.push_back({"distance", d ? v.quantity(*d, "m").value_or("30 m") : "30 m"});
+             o.args.push_back({"kind", "intersection"});
+         }},
+        {"approaching_stop_sign", {"threshold"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "approaching_stop";
+             const auto* d = a.take({"threshold"});
+             o.args.push_back({"distance", d ? v.quantity(*d, "m").value_or("30 m") : "30 m"});
+             o.args.push_back({"kind", "stop_line"});
+         }},
+        {"intersection_type", {"type"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "intersection_type";
+             if (const auto* t = a.take({"type"})) {
+                 opt(o.args, "type", v.constant(*t, {{"RIGHT_OF_WAY", "yield"}, {"ALL_WAY_STOP", "all_way_stop"},
+                                                      {"TRAFFIC_LIGHT", "traffic_light"},
+                                                      {"PEDESTRIAN_CROSS", "pedestrian_crossing"}}));
+             }
+         }},
+        {"yield_role", {}, [](Args&, Values&, CondOut& o) {
+             o.name = "yield_role";
+             o.args = {{"role", "yield"}};
+         }},
+        {"intersection_occupied", {"distance"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "intersection_occupied";
+             if (const auto* d = a.take({"distance"})) opt(o.args, "distance", v.quantity(*d, "m"));
+         }},
+        {"aws_yielding", {}, [](Args&, Values&, CondOut& o) {
+             o.name = "all_way_stop_turn";
+             o.negate = true;
+         }},
+        {"traffic_light_state", {"color", "threshold"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "traffic_light";
+             if (const auto* c = a.take({"color"})) {
+                 opt(o.args, "state", v.constant(*c, {{"RED", "red"}, {"YELLOW", "yellow"}, {"GREEN", "green"}}));
+             }
+             if (const auto* d = a.take({"threshold"})) opt(o.args, "distance", v.quantity(*d, "m"));
+         }},
+        {"wait", {"time"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "wait";
+             if (const auto* t = a.take({"time"})) opt(o.args, "time", v.quantity(*t, "s"));
+         }},
+        {"gap", {"vid", "zid", "lid", "distance", "time"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "gap";
+             if (!vehicle_arg(a, v, o)) {
+                 if (const auto* l = a.take({"lid"})) opt(o.args, "lane", v.side(*l));
+             }
+             if (const auto* d = a.take({"distance"})) opt(o.args, "min", v.quantity(*d, "m"));
+             if (const auto* t = a.take({"time"})) opt(o.args, "time_max", v.quantity(*t, "s"));
+         }},
+        {"reached_gap", {"vid", "zid", "distance", "repeat"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "gap";
+             vehicle_arg(a, v, o);
+             if (const auto* d = a.take({"distance"})) opt(o.args, "max", v.quantity(*d, "m"));
+             o.once = repeat_false(a, v);
+         }},
+    };
+    return k;
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------ the library
+
+struct BtreeLibrary::TreeState {
+    std::string path;
+    Lowered lowered;
+    std::set<std::string> labels;  // .sdv labels used in this tree
+};
+
+BtreeLibrary::BtreeLibrary(std::vector<std::string> search_path, diag::SourceManager& sm, diag::DiagnosticEngine& diags)
+    : search_path_(std::move(search_path)), sm_(sm), diags_(diags) {}
+
+std::string BtreeLibrary::tree_name(const std::string& stem) {
+    std::string s;
+    for (char c : stem) s += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+    if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0]))) s = "t_" + s;
+    return s;
+}
+
+std::optional<std::string> BtreeLibrary::find(const std::string& name) const {
+    std::string file = name;
+    if (fs::path(file).extension() != ".btree") file += ".btree";
+    for (const auto& dir : search_path_) {
+        std::error_code ec;
+        fs::path p = fs::path(dir) / file;
+        if (fs::is_regular_file(p, ec)) return p.lexically_normal().string();
+    }
+    return std::nullopt;
+}
+
+std::optional<std::string> BtreeLibrary::add_file(const std::string& path, diag::SourceRange where) {
+    const Lowered* l = lower_file(path, where);
+    if (l == nullptr) return std::nullopt;
+    return l->name;
+}
+
+std::optional<std::string> BtreeLibrary::add_named(const std::string& name, diag::SourceRange where) {
+    auto path = find(name);
+    if (!path) {
+        std::string dirs;
+        for (const auto& d : search_path_) dirs += (dirs.empty() ? "" : ", ") + d;
+        auto& d = diags_.error("E0905", where, "no behavior tree '" + name + "' on the search path");
+        d.notes.push_back({{}, "looked for " + (fs::path(name).extension() == ".btree" ? name : name + ".btree") +
+                                   " in: " + (dirs.empty() ? "(no directory)" : dirs)});
+        d.notes.push_back({{}, "add directories with --btree-path DIR"});
+        return std::nullopt;
+    }
+    return add_file(*path, where);
+}
+
+const BtreeLibrary::Lowered* BtreeLibrary::lower_file(const std::string& path, diag::SourceRange where) {
+    std::error_code ec;
+    const std::string key = fs::weakly_canonical(path, ec).string();
+    if (auto f = done_.find(key); f != done_.end()) return &f->second;
+    if (in_progress_.count(key)) {
+        diags_.error("E0907", where, "the behavior tree '" + fs::path(path).stem().string() + "' uses itself")
+            .notes.push_back({{}, "subtree references must not form a cycle"});
+        return nullptr;
+    }
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        diags_.error("E0006", where, "cannot read file '" + path + "'");
+        return nullptr;
+    }
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const diag::FileId file = sm_.add_file(path, ss.str());
+    files_.push_back(path);
+    auto parsed = parse_btree(file, sm_, diags_);
+    if (!parsed) return nullptr;
+    if (parsed->trees.empty()) return nullptr;
+    for (size_t i = 1; i < parsed->trees.size(); ++i) {
+        diags_.warning("W0902", "gss-extra-tree", parsed->trees[i].name_range,
+                       "only the first tree of a .btree file is used; '" + parsed->trees[i].name + "' is ignored")
+            .notes.push_back({{}, "the reference reads one tree per file, named by the file"});
+    }
+    in_progress_.insert(key);
+    TreeState t;
+    t.path = path;
+    std::string name = tree_name(fs::path(path).stem().string());
+    while (names_.count(name)) name += "_";
+    names_.insert(name);
+    t.lowered.name = name;
+    const size_t before = diags_.error_count();
+    const BtTree& tree = parsed->trees.front();
+    const std::string body = lower_node(tree.root, 1, t);
+    in_progress_.erase(key);
+    if (diags_.error_count() > before) return nullptr;
+    text_ += "// " + fs::path(path).filename().string() + ": GeoScenario behavior tree '" + tree.name + "'\n";
+    text_ += "tree " + name + "() {\n" + body + "}\n\n";
+    return &(done_[key] = std::move(t.lowered));
+}
+
+std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
+    const std::string ind(static_cast<size_t>(depth) * 4, ' ');
+    switch (n.kind) {
+        case BtNode::Kind::fallback:
+        case BtNode::Kind::sequence:
+        case BtNode::Kind::parallel: {
+            std::string s = ind + (n.kind == BtNode::Kind::fallback ? "fallback"
+                                   : n.kind == BtNode::Kind::sequence ? "sequence"
+                                                                      : "parallel(policy = all)") + " {\n";
+            for (const BtNode& c : n.children) s += lower_node(c, depth + 1, t);
+            return s + ind + "}\n";
+        }
+        case BtNode::Kind::subtree: return ind + lower_subtree(n, t);
+        case BtNode::Kind::condition:
+        case BtNode::Kind::maneuver: break;
+    }
+    // A unique label per tree; repeated names get a suffix (overrides reach them all).
+    std::string label = tree_name(n.label);
+    for (int k = 2; t.labels.count(label); ++k) label = tree_name(n.label) + "_" + std::to_string(k);
+    const BtValue& call = n.call;
+    if (n.kind == BtNode::Kind::maneuver) {
+        const ClassMap* cm = find_class(call.text);
+        if (cm == nullptr) {
+            auto& d = diags_.error("E0902", call.name_range, "unknown maneuver configuration class '" + call.text + "'");
+            if (auto m = diag::closest_match(call.text, class_names())) d.notes.push_back({{}, "did you mean '" + *m + "'?"});
+            std::string all;
+            for (const auto& c : class_names()) all += (all.empty() ? "" : ", ") + c;
+            d.notes.push_back({{}, "known classes: " + all});
+            return "";
+        }
+        auto args = lower_config(call, *cm, diags_);
+        if (!args) return "";
+        t.labels.insert(label);
+        NodeInfo info{label, cm->mconfig, {}};
+        std::string s = ind + label + ": maneuver " + cm->maneuver + "(";
+        for (size_t i = 0; i < args->size(); ++i) {
+            s += (i ? ", " : "") + (*args)[i].name + " = " + (*args)[i].text;
+            info.fields.insert((*args)[i].name);
+        }
+        t.lowered.nodes[n.label].push_back(std::move(info));
+        return s + ")\n";
+    }
+    const CondMap* cmap = nullptr;
+    for (const auto& c : condition_map()) {
+        if (call.text == c.ref) cmap = &c;
+    }
+    if (cmap == nullptr) {
+        std::vector<std::string> names;
+        for (const auto& c : condition_map()) names.emplace_back(c.ref);
+        auto& d = diags_.error("E0904", call.name_range, "unknown condition '" + call.text + "'");
+        if (auto m = diag::closest_match(call.text, names)) d.notes.push_back({{}, "did you mean '" + *m + "'?"});
+        d.notes.push_back({{}, "`sdv catalog` lists sdv's conditions; docs/geoscenario.md maps the reference's onto them"});
+        return "";
+    }
+    Args args(call, diags_, "condition " + call.text);
+    Values val(diags_);
+    CondOut out;
+    cmap->lower(args, val, out);
+    args.finish(false, cmap->reads);
+    if (out.drop) return ind + "// " + n.label + ": " + call.text + "(...) is implied by the maneuver that follows\n";
+    t.labels.insert(label);
+    t.lowered.nodes[n.label].push_back({label, "", {}});
+    std::string s;
+    if (!out.comment.empty()) s += ind + "// " + out.comment + "\n";
+    s += ind + (out.once ? "once " : "") + (out.negate ? "not " : "") + label + ": condition " + out.name + "(";
+    for (size_t i = 0; i < out.args.size(); ++i) s += (i ? ", " : "") + out.args[i].name + " = " + out.args[i].text;
+    return s + ")\n";
+}
+
+std::string BtreeLibrary::lower_subtree(const BtNode& n, TreeState& t) {
+    const Lowered* sub = nullptr;
+    if (auto path = find(n.label)) {
+        sub = lower_file(*path, n.label_range);
+    } else {
+        add_named(n.label, n.label_range);  // reports E0905
+    }
+    if (sub == nullptr) return "";
+    // Overrides: NODE=MConfigClass(...) replaces that node's whole configuration; fields the
+    // tree set and the override leaves out fall back to the catalog defaults.
+    std::vector<Arg> out;
+    for (const BtItem& it : n.call.items) {
+        if (!it.key) {
+            diags_.error("E0906", it.range, "unexpected positional value in a subtree reference")
+                .notes.push_back({{}, "overrides are written NODE=MConfigClass(field=value, ...)"});
+            continue;
+        }
+        auto node = sub->nodes.find(*it.key);
+        if (node == sub->nodes.end() || node->second.front().mconfig.empty()) {
+            std::vector<std::string> names;
+            for (const auto& [k, v] : sub->nodes) {
+                if (!v.front().mconfig.empty()) names.push_back(k);
+            }
+            auto& d = diags_.error("E0908", it.key_range, "the tree '" + n.label + "' has no maneuver node '" + *it.key + "'");
+            if (auto m = diag::closest_match(*it.key, names)) d.notes.push_back({{}, "did you mean '" + *m + "'?"});
+            continue;
+        }
+        if (it.value.kind != BtValue::Kind::call) {
+            diags_.error("E0906", it.value.range, "invalid value for '" + *it.key + "'")
+                .notes.push_back({{}, "expected a configuration, e.g. MVelKeepConfig(vel=MP(12,10,6))"});
+            continue;
+        }
+        const ClassMap* cm = find_class(it.value.text);
+        if (cm == nullptr) {
+            auto& d = diags_.error("E0902", it.value.name_range, "unknown maneuver configuration class '" + it.value.text + "'");
+            if (auto m = diag::closest_match(it.value.text, class_names())) d.notes.push_back({{}, "did you mean '" + *m + "'?"});
+            continue;
+        }
+        if (cm->mconfig != node->second.front().mconfig) {
+            diags_.error("E0909", it.value.name_range,
+                         "the override of '" + *it.key + "' changes its class from " + node->second.front().mconfig + " to " +
+                             cm->mconfig)
+                .notes.push_back({{}, "sdv overrides change a node's parameters, not its maneuver"});
+            continue;
+        }
+        auto args = lower_config(it.value, *cm, diags_);
+        if (!args) continue;
+        const catalog::ManeuverDef* m = catalog::find_maneuver(cm->maneuver);
+        for (const NodeInfo& info : node->second) {
+            std::set<std::string> given;
+            for (const Arg& a : *args) {
+                out.push_back({info.sdv_label + "." + a.name, a.text});
+                given.insert(a.name);
+            }
+            for (const std::string& f : info.fields) {
+                if (given.count(f)) continue;
+                const catalog::ParamDef* p = m->find_param(f);
+                if (p != nullptr && p->def) out.push_back({info.sdv_label + "." + f, catalog::format_default(*p)});
+            }
+        }
+    }
+    (void)t;
+    std::string s = "subtree " + sub->name + "(";
+    for (size_t i = 0; i < out.size(); ++i) s += (i ? ", " : "") + out[i].name + " = " + out[i].text;
+    return s + ")\n";
+}
+
+}  // namespace sdv::compiler::gss

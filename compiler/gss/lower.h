@@ -1,0 +1,75 @@
+// The GeoScenario `.btree` front end, part 2: lowering to .sdv trees. Each .btree file becomes
+// one parameterless `tree` whose nodes use the catalog's conditions and maneuvers: the
+// reference's MConfig classes, their fields (MP samplers, LT lateral targets, tuples, constants)
+// and its conditions are mapped onto ours (docs/geoscenario.md has the table). Subtrees are
+// found as NAME.btree along a search path and lowered first; overrides at a subtree reference
+// (`subtree drive(m_keep=MVelKeepConfig(vel=MP(16,10,6)))`) become node overrides that replace
+// the whole configuration, as the reference does. Everything that cannot be mapped gets a
+// located diagnostic in the .btree file (E09xx); parameters the reference itself ignores get a
+// warning (W0901).
+//
+// The result is .sdv source text, which the ordinary front end then parses and checks, so a
+// .btree and its conversion compile to the same IR by construction.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "compiler/diag/diagnostic_engine.h"
+#include "compiler/diag/source_manager.h"
+#include "compiler/gss/btree.h"
+
+namespace sdv::compiler::gss {
+
+class BtreeLibrary {
+public:
+    // `search_path`: directories searched, in order, for NAME.btree.
+    BtreeLibrary(std::vector<std::string> search_path, diag::SourceManager& sm, diag::DiagnosticEngine& diags);
+
+    // Lowers the .btree file at `path` and every subtree it uses. Returns the .sdv name of its
+    // tree, or nullopt after errors. `where` locates the reference in messages (may be invalid).
+    std::optional<std::string> add_file(const std::string& path, diag::SourceRange where = {});
+    // The same for a tree referred to by name (`st_standard_driver.btree` or `drive`), looked
+    // up along the search path.
+    std::optional<std::string> add_named(const std::string& name, diag::SourceRange where);
+
+    // Every tree lowered so far, callees before callers, as .sdv text.
+    const std::string& text() const { return text_; }
+    // The .btree files read, in order.
+    const std::vector<std::string>& files() const { return files_; }
+
+    // The .sdv tree name a .btree file stem gets.
+    static std::string tree_name(const std::string& stem);
+
+private:
+    struct NodeInfo {
+        std::string sdv_label;
+        std::string mconfig;                 // class of a maneuver node
+        std::set<std::string> fields;        // catalog parameters its configuration sets
+    };
+    struct Lowered {
+        std::string name;
+        // Original node name → the .sdv nodes carrying it (names may repeat in a .btree).
+        std::map<std::string, std::vector<NodeInfo>> nodes;
+    };
+    struct TreeState;
+
+    std::optional<std::string> find(const std::string& name) const;
+    const Lowered* lower_file(const std::string& path, diag::SourceRange where);
+    std::string lower_node(const BtNode& n, int depth, TreeState& t);
+    std::string lower_subtree(const BtNode& n, TreeState& t);
+
+    std::vector<std::string> search_path_;
+    diag::SourceManager& sm_;
+    diag::DiagnosticEngine& diags_;
+    std::map<std::string, Lowered> done_;   // by canonical path
+    std::set<std::string> in_progress_;
+    std::vector<std::string> files_;
+    std::set<std::string> names_;
+    std::string text_;
+};
+
+}  // namespace sdv::compiler::gss
