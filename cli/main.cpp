@@ -14,11 +14,13 @@
 #include "compiler/diff/diff.h"
 #include "compiler/diag/diagnostic_engine.h"
 #include "compiler/diag/render.h"
+#include "compiler/gss/scenario.h"
 #include "compiler/ir/ir_io.h"
 #include "compiler/sema/compile.h"
 #include "compiler/syntax/format.h"
 #include "compiler/syntax/parser.h"
 #include "runtime/catalog/catalog.h"
+#include "runtime/io/gss_outputs.h"
 #include "runtime/io/outputs.h"
 #include "runtime/io/plot.h"
 #include "runtime/io/reuse.h"
@@ -43,7 +45,7 @@ struct WarningFlags {
 };
 
 const std::vector<std::string> kWarningNames = {"unused-tree", "unused-parameter", "unused-import",
-                                                "no-expectations"};
+                                                "no-expectations", "gss-ignored-parameter", "gss-extra-tree"};
 
 WarningFlags extract_warning_flags(std::vector<std::string>& args) {
     WarningFlags f;
@@ -77,8 +79,33 @@ WarningFlags extract_warning_flags(std::vector<std::string>& args) {
 struct Common {
     std::string format = "text";
     std::vector<std::string> import_dirs;
+    std::vector<std::string> btree_path;  // GeoScenario inputs: where .btree files are
+    std::vector<std::string> map_dirs;    // and where maps are
     bool color = false;
 };
+
+// GeoScenario inputs (.btree, .gs.osm) converted to .sdv text; nullopt after errors.
+std::optional<std::string> convert_input(const std::string& file, const Common& c, const std::string& out_dir,
+                                         diag::SourceManager& sm, diag::DiagnosticEngine& diags) {
+    compiler::gss::ConvertOptions opts{c.btree_path, c.map_dirs, out_dir};
+    auto conv = compiler::gss::is_btree_path(file) ? compiler::gss::convert_btrees({file}, opts, sm, diags)
+                                                   : compiler::gss::convert_geoscenario(file, opts, sm, diags);
+    if (!conv) return std::nullopt;
+    return conv->text;
+}
+
+// Compiles any input: a .sdv file, or a GeoScenario scenario or .btree file through its
+// conversion (so both give the same IR as the converted .sdv).
+compiler::Compilation compile_input(const std::string& file, const Common& c, diag::SourceManager& sm,
+                                    diag::DiagnosticEngine& diags) {
+    compiler::CompileOptions opts{c.import_dirs};
+    if (compiler::gss::is_btree_path(file) || compiler::gss::is_geoscenario_path(file)) {
+        auto text = convert_input(file, c, "", sm, diags);
+        if (!text || diags.has_errors()) return {};
+        return compiler::compile_source(file + ".sdv", *text, sm, diags, opts);
+    }
+    return compiler::compile_file(file, sm, diags, opts);
+}
 
 // Prints diagnostics (text to stderr, JSON to stdout) and returns whether there were errors.
 bool report(diag::DiagnosticEngine& diags, const diag::SourceManager& sm, const Common& c) {
@@ -137,8 +164,7 @@ int cmd_lint(const std::vector<std::string>& files, const Common& c, const Warni
         diag::SourceManager sm;
         diag::DiagnosticEngine diags(sm);
         diags.set_policy(w.policy);
-        compiler::CompileOptions opts{c.import_dirs};
-        compiler::compile_file(f, sm, diags, opts);
+        compile_input(f, c, sm, diags);
         errors = report(diags, sm, c) || errors;
     }
     return errors ? kFailure : kOk;
@@ -161,8 +187,7 @@ int cmd_compile(const std::string& file, const std::string& out, const std::stri
         std::cout << compiler::syntax::dump_tokens(id, sm);
         return kOk;
     }
-    compiler::CompileOptions opts{c.import_dirs};
-    auto result = compiler::compile_file(file, sm, diags, opts);
+    auto result = compile_input(file, c, sm, diags);
     if (emit == "ast") {
         if (!result.files.empty() && result.files[0]) {
             std::cout << compiler::ast::dump(*result.files[0], sm);
@@ -190,7 +215,7 @@ struct RunArgs {
     std::string file, out, scenario;
     std::optional<uint64_t> seed;
     int threads = 1;
-    bool trace = false, realtime = false;
+    bool trace = false, realtime = false, gss_outputs = false;
 };
 
 int cmd_run(const RunArgs& args, const Common& c, const WarningFlags& w) {
@@ -204,7 +229,14 @@ int cmd_run(const RunArgs& args, const Common& c, const WarningFlags& w) {
     ss << in.rdbuf();
     const std::string text = ss.str();
     const bool is_ir = args.file.size() > 6 && args.file.compare(args.file.size() - 6, 6, ".sdvir") == 0;
-    if (is_ir) {
+    if (compiler::gss::is_geoscenario_path(args.file)) {
+        diag::SourceManager sm;
+        diag::DiagnosticEngine diags(sm);
+        diags.set_policy(w.policy);
+        auto result = compile_input(args.file, c, sm, diags);
+        if (report(diags, sm, c) || !result.program) return kFailure;
+        program = std::move(result.program);
+    } else if (is_ir) {
         auto r = ir::read_ir(text);
         if (!r.program) {
             std::cerr << args.file << ": error: " << r.error << "\n";
@@ -266,6 +298,12 @@ int cmd_run(const RunArgs& args, const Common& c, const WarningFlags& w) {
     if (auto e = io::write_outputs(dir, *program, index, r, info); !e.empty()) {
         std::cerr << "sdv: error: " << e << "\n";
         return kFailure;
+    }
+    if (args.gss_outputs) {
+        if (auto e = io::write_gss_outputs(dir, *program, index, r); !e.empty()) {
+            std::cerr << "sdv: error: " << e << "\n";
+            return kFailure;
+        }
     }
     std::cout << io::report(*program, index, r) << "outputs in " << dir << "\n";
     return r.passed() ? kOk : kFailure;
@@ -382,6 +420,47 @@ int cmd_reuse(const std::vector<std::string>& files, const Common& c) {
     return kOk;
 }
 
+// `sdv convert`: the .sdv text of a GeoScenario input, formatted, checked before it is written.
+int cmd_convert(const std::string& file, const std::string& out, const Common& c, const WarningFlags& w) {
+    if (!compiler::gss::is_btree_path(file) && !compiler::gss::is_geoscenario_path(file)) {
+        std::cerr << "sdv: error: '" << file << "' is neither a GeoScenario scenario (.osm) nor a .btree file\n";
+        return kUsage;
+    }
+    diag::SourceManager sm;
+    diag::DiagnosticEngine diags(sm);
+    diags.set_policy(w.policy);
+    const bool to_stdout = out.empty() || out == "-";
+    std::error_code ec;
+    const std::string out_dir = to_stdout ? std::filesystem::current_path(ec).string()
+                                          : std::filesystem::absolute(out, ec).parent_path().string();
+    auto text = convert_input(file, c, out_dir, sm, diags);
+    if (!text || diags.has_errors()) {
+        report(diags, sm, c);
+        return kFailure;
+    }
+    // The canonical layout, then a check of the result as it will be read back.
+    const std::string display =
+        to_stdout ? (std::filesystem::path(out_dir) / (std::filesystem::path(file).filename().string() + ".sdv")).string() : out;
+    const auto id = sm.add_file(display, *text);
+    if (auto formatted = compiler::syntax::format(id, sm, diags)) *text = *formatted;
+    compiler::CompileOptions opts{c.import_dirs};
+    if (!to_stdout) opts.import_dirs.push_back(out_dir);
+    auto result = compiler::compile_source(display, *text, sm, diags, opts);
+    if (report(diags, sm, c) || !result.program) return kFailure;
+    if (to_stdout) {
+        std::cout << *text;
+        return kOk;
+    }
+    std::ofstream o(out, std::ios::binary);
+    o << *text;
+    if (!o) {
+        std::cerr << "sdv: error: cannot write '" << out << "'\n";
+        return kFailure;
+    }
+    std::cout << "wrote " << out << "\n";
+    return kOk;
+}
+
 int cmd_catalog(const std::string& format) {
     if (format == "json") {
         std::cout << catalog::to_json().dump(2) << "\n";
@@ -413,6 +492,9 @@ int run(int argc, char** argv) {
             ->check(CLI::IsMember({"text", "json"}));
         sub->add_option("-I,--import-dir", common.import_dirs,
                         "extra directory searched for relative imports");
+        sub->add_option("--btree-path", common.btree_path,
+                        "GeoScenario input: directory searched for .btree files (repeatable)");
+        sub->add_option("--map-dir", common.map_dirs, "GeoScenario input: directory searched for the map (repeatable)");
     };
 
     std::vector<std::string> lint_files;
@@ -447,6 +529,8 @@ int run(int argc, char** argv) {
     run_cmd->add_option("--scenario", run_args.scenario, "which scenario of the file");
     run_cmd->add_flag("--trace", run_args.trace, "write decisions.jsonl (every planning decision)");
     run_cmd->add_flag("--realtime", run_args.realtime, "pace the run to the wall clock");
+    run_cmd->add_flag("--gss-outputs", run_args.gss_outputs,
+                      "also write GeoScenario's violations.json and trajectory_v<id>.csv");
     add_common(run_cmd);
 
     std::vector<std::string> fmt_files;
@@ -478,6 +562,13 @@ int run(int argc, char** argv) {
     plot_cmd->add_option("-o,--output", plot_out, "SVG file ('-' for stdout)");
 
     std::string check_file;
+    std::string convert_file, convert_out;
+    auto* convert_cmd = app.add_subcommand("convert", "convert a GeoScenario scenario (.osm) or behavior tree "
+                                                      "(.btree) into .sdv source");
+    convert_cmd->add_option("file", convert_file, ".gs.osm scenario or .btree file")->required();
+    convert_cmd->add_option("-o,--output", convert_out, "output .sdv file ('-' for stdout, the default)");
+    add_common(convert_cmd);
+
     auto* check_ir = app.add_subcommand("check-ir", "validate a .sdvir file (format, version, hash, "
                                                     "structure)");
     check_ir->add_option("file", check_file, ".sdvir file")->required();
@@ -501,6 +592,7 @@ int run(int argc, char** argv) {
     if (lint->parsed()) return cmd_lint(lint_files, common, warnings);
     if (compile->parsed()) return cmd_compile(compile_file, compile_out, emit, common, warnings);
     if (cat->parsed()) return cmd_catalog(catalog_format);
+    if (convert_cmd->parsed()) return cmd_convert(convert_file, convert_out, common, warnings);
     if (fmt->parsed()) return cmd_fmt(fmt_files, fmt_check, fmt_stdout, common);
     if (diff_cmd->parsed()) return cmd_diff(diff_a, diff_b, diff_runs, common);
     if (reuse_cmd->parsed()) return cmd_reuse(reuse_files, common);

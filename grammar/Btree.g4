@@ -8,7 +8,8 @@
 //               maneuver m_follow(MFollowConfig())
 //           maneuver m_keep(MVelKeepConfig(vel=MP(14.0,10,6)))
 //
-// INDENT and DEDENT are not produced by this lexer: compiler/gss/btree.cpp turns the NL tokens
+// A call is preferred over a name followed by a tuple (`MP(1,2,3)` is one value, since items may
+// be separated by spaces). INDENT and DEDENT are not produced by this lexer: compiler/gss/btree.cpp turns the NL tokens
 // (which carry the next line's indentation) into them. Arguments inside a call may be separated
 // by commas or, as the reference tolerates, by spaces only.
 grammar Btree;
@@ -26,9 +27,9 @@ subtree   : SUBTREE NAME '(' (item (','? item)*)? ')' ;
 call      : NAME '(' (item (','? item)*)? ')' ;
 item      : (NAME '=')? value ;
 value
-    : NUMBER                                  # numberValue
+    : call                                    # callValue
+    | NUMBER                                  # numberValue
     | NAME                                    # nameValue
-    | call                                    # callValue
     | '(' value (',' value)* ')'              # tupleValue
     ;
 

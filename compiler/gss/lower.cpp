@@ -168,7 +168,7 @@ public:
     // LT(target, samples, method, sigma, limit_lane_width, limit_vehicle_size) or a number: the
     // lateral target as an offset from the lane centre. The reference spreads several samples
     // over the lane width less the vehicle's radius; sdv spreads them ±0.75 m about the target
-    // (that width on a 3.5 m lane).
+    // (that width on a 3.5 m lane), or ±1.75 m when the vehicle's size is not subtracted.
     std::optional<std::string> lateral(const BtItem& it) {
         const BtValue& v = it.value;
         if (v.kind == BtValue::Kind::number) return with_unit(v.number, "m");
@@ -187,8 +187,10 @@ public:
         std::string s = with_unit(a[0], "m");
         const int n = static_cast<int>(std::lround(a[1]));
         if (n <= 1) return s;
-        // The reference's default sampling for LT is NORMAL.
-        return s + " ±0.75 m samples " + std::to_string(n) +
+        // The reference's default sampling for LT is NORMAL. Without limit_vehicle_size the
+        // samples may reach the lane's edges: ±1.75 m.
+        const char* spread = a[5] != 0 ? " ±0.75 m samples " : " ±1.75 m samples ";
+        return s + spread + std::to_string(n) +
                method(static_cast<int>(std::lround(a[2])), a[3], "m", v.items.size() > 2 ? &v.items[2] : nullptr);
     }
 
@@ -714,7 +716,7 @@ const BtreeLibrary::Lowered* BtreeLibrary::lower_file(const std::string& path, d
     const std::string body = lower_node(tree.root, 1, t);
     in_progress_.erase(key);
     if (diags_.error_count() > before) return nullptr;
-    text_ += "// " + fs::path(path).filename().string() + ": GeoScenario behavior tree '" + tree.name + "'\n";
+    text_ += "# " + fs::path(path).filename().string() + ": GeoScenario behavior tree '" + tree.name + "'\n";
     text_ += "tree " + name + "() {\n" + body + "}\n\n";
     return &(done_[key] = std::move(t.lowered));
 }
@@ -778,11 +780,11 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
     CondOut out;
     cmap->lower(args, val, out);
     args.finish(false, cmap->reads);
-    if (out.drop) return ind + "// " + n.label + ": " + call.text + "(...) is implied by the maneuver that follows\n";
+    if (out.drop) return ind + "# " + n.label + ": " + call.text + "(...) is implied by the maneuver that follows\n";
     t.labels.insert(label);
     t.lowered.nodes[n.label].push_back({label, "", {}});
     std::string s;
-    if (!out.comment.empty()) s += ind + "// " + out.comment + "\n";
+    if (!out.comment.empty()) s += ind + "# " + out.comment + "\n";
     s += ind + (out.once ? "once " : "") + (out.negate ? "not " : "") + label + ": condition " + out.name + "(";
     for (size_t i = 0; i < out.args.size(); ++i) s += (i ? ", " : "") + out.args[i].name + " = " + out.args[i].text;
     return s + ")\n";

@@ -1,0 +1,537 @@
+// GeoScenario 2.0 reading (pugixml; byte offsets of elements become diagnostic locations) and
+// conversion to .sdv text.
+#include "compiler/gss/scenario.h"
+
+#include "compiler/gss/lower.h"
+#include "runtime/road/lanelet2_reader.h"
+
+#include <pugixml.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace sdv::compiler::gss {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::string fixed(double v, int digits) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+    std::string s = buf;
+    if (s.find('.') != std::string::npos) {
+        while (s.back() == '0') s.pop_back();
+        if (s.back() == '.') s.pop_back();
+    }
+    if (s == "-0") s = "0";
+    return s;
+}
+
+std::string ident(const std::string& raw, const std::string& fallback) {
+    std::string s;
+    for (char c : raw) s += std::isalnum(static_cast<unsigned char>(c)) ? static_cast<char>(std::tolower(static_cast<unsigned char>(c))) : '_';
+    while (s.find("__") != std::string::npos) s.erase(s.find("__"), 1);
+    while (!s.empty() && s.back() == '_') s.pop_back();
+    while (!s.empty() && s.front() == '_') s.erase(0, 1);
+    if (s.empty()) s = fallback;
+    if (std::isdigit(static_cast<unsigned char>(s[0]))) s = fallback + "_" + s;
+    return s;
+}
+
+// Reads one file's elements; every message names the element and points at it.
+class Reader {
+public:
+    Reader(diag::FileId file, const diag::SourceManager& sm, diag::DiagnosticEngine& diags)
+        : file_(file), text_(sm.contents(file)), diags_(diags) {}
+
+    std::optional<GsScenario> read() {
+        pugi::xml_document doc;
+        const auto parsed = doc.load_buffer(text_.data(), text_.size(), pugi::parse_default);
+        if (!parsed) {
+            const auto at = static_cast<uint32_t>(std::max<ptrdiff_t>(0, parsed.offset));
+            diags_.error("E0910", {{file_, at}, {file_, at}}, std::string("not a valid XML file: ") + parsed.description());
+            return std::nullopt;
+        }
+        const auto osm = doc.child("osm");
+        if (!osm) {
+            diags_.error("E0910", {{file_, 0}, {file_, 0}}, "not a GeoScenario file: no <osm> element");
+            return std::nullopt;
+        }
+        GsScenario sc;
+        std::map<long long, GeoPoint> nodes;
+        bool have_config = false;
+        for (auto n : osm.children("node")) {
+            GeoPoint p;
+            p.range = range(n);
+            p.lat = n.attribute("lat").as_double(NAN);
+            p.lon = n.attribute("lon").as_double(NAN);
+            const long long id = n.attribute("id").as_llong(0);
+            if (!std::isfinite(p.lat) || !std::isfinite(p.lon) || std::fabs(p.lat) > 90 || std::fabs(p.lon) > 180) {
+                diags_.error("E0911", p.range, "node " + std::to_string(id) + ": invalid or missing lat/lon");
+                continue;
+            }
+            nodes[id] = p;
+            const auto tags = read_tags(n);
+            auto gs = tags.find("gs");
+            if (gs == tags.end()) continue;
+            const std::string what = gs->second.value;
+            if (what == "globalconfig") {
+                have_config = true;
+                read_config(n, tags, sc);
+            } else if (what == "origin") {
+                sc.origin = p;
+                sc.has_origin = true;
+                if (auto a = tags.find("altitude"); a != tags.end()) sc.origin_alt = number(a->second, "origin", "altitude").value_or(0);
+            } else if (what == "vehicle") {
+                read_vehicle(n, tags, p, sc);
+            } else if (what == "trafficlight") {
+                read_light(n, tags, sc);
+            } else if (what == "staticobject") {
+                GsObject o;
+                o.name = text(tags, "name").value_or("object" + std::to_string(sc.objects.size() + 1));
+                o.at = p;
+                o.range = p.range;
+                const std::string who = "static object '" + o.name + "'";
+                if (auto l = tags.find("length"); l != tags.end()) o.length = positive(l->second, who, "length").value_or(1.0);
+                if (auto w = tags.find("width"); w != tags.end()) o.width = positive(w->second, who, "width").value_or(1.0);
+                sc.objects.push_back(o);
+            } else if (what != "tnode") {
+                diags_.error("E0913", gs->second.range, "node " + std::to_string(id) + ": GeoScenario element '" + what +
+                                                            "' is not supported by sdv")
+                    .notes.push_back({{}, "supported: globalconfig, origin, vehicle (SDV, TV), trafficlight, staticobject, "
+                                          "route, trajectory"});
+            }
+        }
+        for (auto w : osm.children("way")) {
+            const auto tags = read_tags(w);
+            auto gs = tags.find("gs");
+            if (gs == tags.end()) continue;
+            const std::string what = gs->second.value;
+            const auto name = text(tags, "name");
+            if (what != "route" && what != "trajectory") {
+                diags_.error("E0913", gs->second.range, "way: GeoScenario element '" + what + "' is not supported by sdv");
+                continue;
+            }
+            if (!name) {
+                diags_.error("E0911", range(w), what + " way without a 'name' tag");
+                continue;
+            }
+            std::vector<GeoPoint> pts;
+            std::vector<GsTnode> tnodes;
+            for (auto nd : w.children("nd")) {
+                const long long ref = nd.attribute("ref").as_llong(0);
+                auto f = nodes.find(ref);
+                if (f == nodes.end()) {
+                    diags_.error("E0912", range(nd), what + " '" + *name + "': node " + std::to_string(ref) + " does not exist");
+                    continue;
+                }
+                pts.push_back(f->second);
+                if (what == "trajectory") {
+                    GsTnode t;
+                    t.at = f->second;
+                    const auto ntags = node_tags(osm, ref);
+                    auto time = ntags.find("time");
+                    if (time == ntags.end()) {
+                        diags_.error("E0911", f->second.range, "trajectory '" + *name + "': node " + std::to_string(ref) +
+                                                                   " has no 'time' tag");
+                        continue;
+                    }
+                    t.time = number(time->second, "trajectory '" + *name + "'", "time").value_or(0);
+                    if (auto sp = ntags.find("speed"); sp != ntags.end()) t.speed = number(sp->second, "trajectory '" + *name + "'", "speed");
+                    tnodes.push_back(t);
+                }
+            }
+            if (pts.empty()) {
+                diags_.error("E0911", range(w), what + " '" + *name + "' has no nodes");
+                continue;
+            }
+            if (what == "route") sc.routes[*name] = pts;
+            else sc.trajectories[*name] = tnodes;
+        }
+        if (!have_config) diags_.error("E0911", {{file_, 0}, {file_, 0}}, "the scenario has no globalconfig node");
+        if (!sc.has_origin) {
+            diags_.error("E0911", {{file_, 0}, {file_, 0}}, "the scenario has no origin node")
+                .notes.push_back({{}, "GeoScenario places the map frame at a node tagged gs=origin"});
+        }
+        // References between elements.
+        std::set<int> vids;
+        for (const auto& v : sc.vehicles) {
+            if (!vids.insert(v.vid).second) diags_.error("E0911", v.range, "vehicle id " + std::to_string(v.vid) + " is used twice");
+            const std::string who = "vehicle " + std::to_string(v.vid) + " ('" + v.name + "')";
+            if (v.btype == "SDV" && !v.route.empty() && !sc.routes.count(v.route)) {
+                diags_.error("E0912", v.range, who + ": route '" + v.route + "' is not defined in the scenario");
+            }
+            if (v.btype == "TV" && !sc.trajectories.count(v.trajectory)) {
+                diags_.error("E0912", v.range, who + ": trajectory '" + v.trajectory + "' is not defined in the scenario");
+            }
+        }
+        return sc;
+    }
+
+private:
+    struct Tag {
+        std::string value;
+        diag::SourceRange range;
+    };
+    using Tags = std::map<std::string, Tag>;
+
+    diag::SourceRange range(const pugi::xml_node& n) const {
+        const auto at = static_cast<uint32_t>(std::max<ptrdiff_t>(0, n.offset_debug()));
+        // offset_debug points at the element name; step back to its '<' and forward to the '>'.
+        uint32_t begin = at > 0 && text_[at - 1] == '<' ? at - 1 : at;
+        size_t end = text_.find('>', at);
+        if (end == std::string_view::npos) end = at;
+        return {{file_, begin}, {file_, static_cast<uint32_t>(end + 1)}};
+    }
+
+    Tags read_tags(const pugi::xml_node& e) const {
+        Tags tags;
+        for (auto t : e.children("tag")) tags[t.attribute("k").as_string()] = {t.attribute("v").as_string(), range(t)};
+        return tags;
+    }
+
+    Tags node_tags(const pugi::xml_node& osm, long long id) const {
+        for (auto n : osm.children("node")) {
+            if (n.attribute("id").as_llong(0) == id) return read_tags(n);
+        }
+        return {};
+    }
+
+    static std::optional<std::string> text(const Tags& tags, const char* key) {
+        auto f = tags.find(key);
+        if (f == tags.end() || f->second.value.empty()) return std::nullopt;
+        return f->second.value;
+    }
+
+    std::optional<double> number(const Tag& t, const std::string& who, const char* key) {
+        char* end = nullptr;
+        const double v = std::strtod(t.value.c_str(), &end);
+        if (end == t.value.c_str() || *end != '\0' || !std::isfinite(v)) {
+            diags_.error("E0911", t.range, who + ": tag '" + key + "' is not a number ('" + t.value + "')");
+            return std::nullopt;
+        }
+        return v;
+    }
+
+    std::optional<double> positive(const Tag& t, const std::string& who, const char* key) {
+        auto v = number(t, who, key);
+        if (v && *v <= 0) {
+            diags_.error("E0911", t.range, who + ": tag '" + key + "' must be positive");
+            return std::nullopt;
+        }
+        return v;
+    }
+
+    std::optional<bool> yes_no(const Tag& t, const std::string& who, const char* key) {
+        if (t.value == "yes" || t.value == "true" || t.value == "1") return true;
+        if (t.value == "no" || t.value == "false" || t.value == "0") return false;
+        diags_.error("E0911", t.range, who + ": tag '" + key + "' must be yes or no ('" + t.value + "')");
+        return std::nullopt;
+    }
+
+    void read_config(const pugi::xml_node& n, const Tags& tags, GsScenario& sc) {
+        sc.name = text(tags, "name").value_or("");
+        if (auto v = tags.find("version"); v != tags.end() && v->second.value.rfind('2', 0) != 0) {
+            diags_.error("E0910", v->second.range, "GeoScenario version " + v->second.value + " is not supported (only 2.x)");
+        }
+        if (auto t = tags.find("timeout"); t != tags.end()) sc.timeout = positive(t->second, "globalconfig", "timeout").value_or(60);
+        if (auto c = tags.find("collision"); c != tags.end()) sc.collision = yes_no(c->second, "globalconfig", "collision").value_or(true);
+        auto map = tags.find("lanelet");
+        if (map == tags.end() || map->second.value.empty()) {
+            diags_.error("E0911", range(n), "globalconfig: missing tag 'lanelet' (the map file)");
+        } else {
+            sc.map = map->second.value;
+            sc.map_range = map->second.range;
+        }
+    }
+
+    void read_vehicle(const pugi::xml_node& n, const Tags& tags, const GeoPoint& p, GsScenario& sc) {
+        GsVehicle v;
+        v.at = p;
+        v.range = range(n);
+        v.name = text(tags, "name").value_or("");
+        const std::string who0 = "vehicle" + (v.name.empty() ? std::string() : " '" + v.name + "'");
+        auto vid = tags.find("vid");
+        if (vid == tags.end()) {
+            diags_.error("E0911", v.range, who0 + ": missing tag 'vid'");
+            return;
+        }
+        const auto id = number(vid->second, who0, "vid");
+        if (!id || *id != std::floor(*id) || *id < 0 || *id > 1e6) {
+            if (id) diags_.error("E0911", vid->second.range, who0 + ": 'vid' must be a whole number");
+            return;
+        }
+        v.vid = static_cast<int>(*id);
+        const std::string who = "vehicle " + std::to_string(v.vid) + (v.name.empty() ? std::string() : " ('" + v.name + "')");
+        v.btype = text(tags, "btype").value_or("SDV");
+        for (char& c : v.btype) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+        if (auto s = tags.find("speed"); s != tags.end()) v.speed = number(s->second, who, "speed").value_or(0);
+        if (v.speed < 0) diags_.error("E0911", tags.at("speed").range, who + ": 'speed' must not be negative");
+        if (auto l = tags.find("length"); l != tags.end()) v.length = positive(l->second, who, "length").value_or(4.5);
+        if (auto w = tags.find("width"); w != tags.end()) v.width = positive(w->second, who, "width").value_or(1.8);
+        if (auto g = tags.find("goal_ends_simulation"); g != tags.end()) {
+            v.goal_ends_simulation = yes_no(g->second, who, "goal_ends_simulation").value_or(false);
+        }
+        if (tags.count("start_frenet")) {
+            diags_.error("E0913", tags.at("start_frenet").range, who + ": 'start_frenet' is not supported by sdv")
+                .notes.push_back({{}, "place the vehicle node on its lane instead"});
+        }
+        if (v.btype == "SDV") {
+            auto bt = text(tags, "btree");
+            auto route = text(tags, "route");
+            if (!bt) diags_.error("E0911", v.range, who + ": an SDV needs a 'btree' tag");
+            if (!route) diags_.error("E0911", v.range, who + ": an SDV needs a 'route' tag");
+            v.btree = bt.value_or("");
+            v.route = route.value_or("");
+            if (bt) btree_ranges_[v.vid] = tags.at("btree").range;
+        } else if (v.btype == "TV") {
+            auto tr = text(tags, "trajectory");
+            if (!tr) diags_.error("E0911", v.range, who + ": a trajectory vehicle (TV) needs a 'trajectory' tag");
+            v.trajectory = tr.value_or("");
+        } else {
+            auto& d = diags_.error("E0913", tags.count("btype") ? tags.at("btype").range : v.range,
+                                   who + ": vehicle type '" + v.btype + "' is not supported by sdv");
+            d.notes.push_back({{}, "supported: SDV (simulated driver) and TV (trajectory vehicle)"});
+            if (v.btype == "EV") d.notes.push_back({{}, "an external (co-simulated) vehicle needs a co-simulation bridge, which sdv does not have yet"});
+            return;
+        }
+        sc.vehicles.push_back(v);
+    }
+
+    void read_light(const pugi::xml_node& n, const Tags& tags, GsScenario& sc) {
+        GsLight l;
+        l.range = range(n);
+        l.name = text(tags, "name").value_or("");
+        if (l.name.empty()) {
+            diags_.error("E0911", l.range, "trafficlight without a 'name' tag (it must match a light of the map)");
+            return;
+        }
+        const std::string who = "trafficlight '" + l.name + "'";
+        auto states = tags.find("states");
+        auto durations = tags.find("duration");
+        if (states == tags.end() || durations == tags.end()) {
+            diags_.error("E0911", l.range, who + ": needs 'states' and 'duration' tags");
+            return;
+        }
+        std::stringstream ss(states->second.value);
+        for (std::string s; std::getline(ss, s, ',');) {
+            s.erase(0, s.find_first_not_of(' '));
+            s.erase(s.find_last_not_of(' ') + 1);
+            if (s != "G" && s != "Y" && s != "R" && s != "g" && s != "y" && s != "r") {
+                diags_.error("E0911", states->second.range, who + ": unknown light state '" + s + "'")
+                    .notes.push_back({{}, "states are G, Y or R, separated by commas"});
+                return;
+            }
+            l.states.push_back(std::string(1, static_cast<char>(std::toupper(static_cast<unsigned char>(s[0])))));
+        }
+        std::stringstream ds(durations->second.value);
+        for (std::string s; std::getline(ds, s, ',');) {
+            char* end = nullptr;
+            const double d = std::strtod(s.c_str(), &end);
+            if (end == s.c_str() || !std::isfinite(d) || d <= 0) {
+                diags_.error("E0911", durations->second.range, who + ": duration '" + s + "' is not a positive number");
+                return;
+            }
+            l.durations.push_back(d);
+        }
+        if (l.states.size() != l.durations.size() || l.states.empty()) {
+            diags_.error("E0911", durations->second.range,
+                         who + ": " + std::to_string(l.states.size()) + " states but " + std::to_string(l.durations.size()) + " durations");
+            return;
+        }
+        sc.lights.push_back(l);
+    }
+
+public:
+    std::map<int, diag::SourceRange> btree_ranges_;
+
+private:
+    diag::FileId file_;
+    std::string_view text_;
+    diag::DiagnosticEngine& diags_;
+};
+
+std::string relative_to(const fs::path& p, const std::string& dir) {
+    std::error_code ec;
+    const fs::path abs = fs::weakly_canonical(p, ec);
+    if (dir.empty()) return abs.string();
+    const fs::path base = fs::weakly_canonical(dir, ec);
+    fs::path rel = abs.lexically_relative(base);
+    return rel.empty() ? abs.string() : rel.string();
+}
+
+std::string quoted(const std::string& s) {
+    std::string out = "\"";
+    for (char c : s) {
+        if (c == '"' || c == '\\') out += '\\';
+        out += c;
+    }
+    return out + "\"";
+}
+
+}  // namespace
+
+bool is_btree_path(const std::string& path) { return fs::path(path).extension() == ".btree"; }
+
+bool is_geoscenario_path(const std::string& path) { return fs::path(path).extension() == ".osm"; }
+
+std::optional<GsScenario> read_geoscenario(diag::FileId file, const diag::SourceManager& sm, diag::DiagnosticEngine& diags) {
+    const size_t before = diags.error_count();
+    Reader r(file, sm, diags);
+    auto sc = r.read();
+    if (!sc || diags.error_count() > before) return std::nullopt;
+    return sc;
+}
+
+std::optional<Converted> convert_btrees(const std::vector<std::string>& paths, const ConvertOptions& options,
+                                        diag::SourceManager& sm, diag::DiagnosticEngine& diags) {
+    std::vector<std::string> search = options.btree_path;
+    for (const auto& p : paths) search.push_back(fs::path(p).parent_path().empty() ? "." : fs::path(p).parent_path().string());
+    BtreeLibrary lib(search, sm, diags);
+    bool ok = true;
+    for (const auto& p : paths) ok = lib.add_file(p).has_value() && ok;
+    if (!ok) return std::nullopt;
+    return Converted{lib.text(), lib.files()};
+}
+
+std::optional<Converted> convert_geoscenario(const std::string& path, const ConvertOptions& options,
+                                             diag::SourceManager& sm, diag::DiagnosticEngine& diags) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        diags.error("E0006", {}, "cannot read file '" + path + "'");
+        return std::nullopt;
+    }
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const diag::FileId file = sm.add_file(path, ss.str());
+    const size_t before = diags.error_count();
+    Reader reader(file, sm, diags);
+    auto sc = reader.read();
+    if (!sc || diags.error_count() > before) return std::nullopt;
+
+    // The map: --map-dir directories first, then the scenario's directory and its parents
+    // (GeoScenario writes it relative to the scenario collection's root).
+    std::vector<fs::path> tried;
+    std::optional<fs::path> map;
+    std::error_code ec;
+    std::vector<fs::path> bases;
+    for (const auto& d : options.map_dirs) bases.emplace_back(d);
+    for (fs::path d = fs::absolute(path, ec).parent_path(); !d.empty(); d = d.parent_path()) {
+        bases.push_back(d);
+        if (d == d.parent_path()) break;
+    }
+    for (const auto& b : bases) {
+        for (const fs::path& cand : {b / sc->map, b / fs::path(sc->map).filename()}) {
+            tried.push_back(cand);
+            if (fs::is_regular_file(cand, ec)) {
+                map = cand;
+                break;
+            }
+        }
+        if (map) break;
+    }
+    if (!map) {
+        auto& d = diags.error("E0912", sc->map_range, "map '" + sc->map + "' not found");
+        d.notes.push_back({{}, "looked in the --map-dir directories, then beside the scenario and in its parent directories"});
+        d.notes.push_back({{}, "give the directory holding it with --map-dir DIR"});
+        return std::nullopt;
+    }
+
+    // Trees.
+    std::vector<std::string> search = options.btree_path;
+    search.push_back(fs::absolute(path, ec).parent_path().string());
+    BtreeLibrary lib(search, sm, diags);
+    std::map<int, std::string> tree_of;
+    for (const auto& v : sc->vehicles) {
+        if (v.btype != "SDV") continue;
+        auto name = lib.add_named(v.btree, reader.btree_ranges_[v.vid]);
+        if (name) tree_of[v.vid] = *name;
+    }
+    if (diags.error_count() > before) return std::nullopt;
+
+    const road::GeoOrigin origin{sc->origin.lat, sc->origin.lon, sc->origin_alt};
+    auto xy = [&](const GeoPoint& p) {
+        const road::Vec2 q = road::project(origin, p.lat, p.lon);
+        return "(" + fixed(q.x, 3) + " m, " + fixed(q.y, 3) + " m)";
+    };
+    auto heading = [&](const GeoPoint& a, const GeoPoint& b) {
+        const road::Vec2 p = road::project(origin, a.lat, a.lon), q = road::project(origin, b.lat, b.lon);
+        return fixed(std::atan2(q.y - p.y, q.x - p.x) * 180.0 / kPi, 2) + " deg";
+    };
+
+    const std::string stem = fs::path(path).filename().string().substr(0, fs::path(path).filename().string().find('.'));
+    const std::string scen = ident(stem, "scenario");
+    std::ostringstream out;
+    out << "# Converted by `sdv convert` from " << fs::path(path).filename().string() << " (GeoScenario "
+        << "2.0): \"" << sc->name << "\".\n"
+        << "# Vehicles are named v<vid>, the ids the behavior trees use.\n\n";
+    out << lib.text();
+    out << "map gs_map {\n    file " << quoted(relative_to(*map, options.out_dir)) << "\n    origin (" << fixed(sc->origin.lat, 11)
+        << ", " << fixed(sc->origin.lon, 11) << ", " << fixed(sc->origin_alt, 3) << " m)\n}\n\n";
+    out << "scenario " << scen << " {\n    road gs_map\n    timeout " << fixed(sc->timeout, 3) << " s\n";
+    std::vector<std::string> goal_vehicles, all_sdv_goals;
+    for (const auto& v : sc->vehicles) {
+        const std::string name = "v" + std::to_string(v.vid);
+        out << "    # " << name << (v.name.empty() ? "" : " '" + v.name + "'") << "\n";
+        if (v.btype == "SDV") {
+            const auto& route = sc->routes.at(v.route);
+            const GeoPoint& goal = route.back();
+            const GeoPoint& from = route.size() >= 2 ? route[route.size() - 2] : v.at;
+            out << "    vehicle " << name << ": sdv {\n";
+            out << "        start at " << xy(v.at) << " heading " << heading(route.size() >= 2 ? route[0] : v.at, route.size() >= 2 ? route[1] : goal) << "\n";
+            out << "        speed " << fixed(v.speed, 3) << " m/s\n";
+            if (v.length != 4.5) out << "        length " << fixed(v.length, 3) << " m\n";
+            if (v.width != 1.8) out << "        width " << fixed(v.width, 3) << " m\n";
+            out << "        goal at " << xy(goal) << " heading " << heading(from, goal) << (v.goal_ends_simulation ? " ends run" : "") << "\n";
+            out << "        tree " << tree_of.at(v.vid) << "()\n    }\n";
+            all_sdv_goals.push_back(name);
+            if (v.goal_ends_simulation) goal_vehicles.push_back(name);
+        } else {
+            const auto& tn = sc->trajectories.at(v.trajectory);
+            out << "    vehicle " << name << ": trajectory {\n";
+            if (v.length != 4.5) out << "        length " << fixed(v.length, 3) << " m\n";
+            if (v.width != 1.8) out << "        width " << fixed(v.width, 3) << " m\n";
+            out << "        trajectory {\n";
+            for (size_t i = 0; i < tn.size(); ++i) {
+                const GeoPoint& next = i + 1 < tn.size() ? tn[i + 1].at : tn[i].at;
+                const GeoPoint& prev = i + 1 < tn.size() ? tn[i].at : (i > 0 ? tn[i - 1].at : tn[i].at);
+                out << "            " << fixed(tn[i].time, 3) << " s: at " << xy(tn[i].at) << " heading " << heading(prev, next);
+                if (tn[i].speed) out << " speed " << fixed(*tn[i].speed, 3) << " m/s";
+                out << "\n";
+            }
+            out << "        }\n    }\n";
+        }
+    }
+    std::set<std::string> object_names;
+    for (const auto& o : sc->objects) {
+        std::string name = ident(o.name, "object");
+        // Vehicles are v<vid>: keep objects out of that name space.
+        const bool vehicle_like = name.size() > 1 && name[0] == 'v' && name.find_first_not_of("0123456789", 1) == std::string::npos;
+        if (vehicle_like) name = "o_" + name;
+        while (object_names.count(name)) name += "_";
+        object_names.insert(name);
+        out << "    object " << name << " {\n        start at " << xy(o.at) << "\n        length " << fixed(o.length, 3)
+            << " m\n        width " << fixed(o.width, 3) << " m\n    }\n";
+    }
+    for (const auto& l : sc->lights) {
+        out << "    light " << l.name << " {";
+        for (size_t i = 0; i < l.states.size(); ++i) {
+            out << " " << (l.states[i] == "G" ? "green" : l.states[i] == "Y" ? "yellow" : "red") << " " << fixed(l.durations[i], 3) << " s";
+        }
+        out << " }\n";
+    }
+    // The reference's success: no collision, and the run ends by a goal before the timeout.
+    if (sc->collision) out << "    expect no_collision()\n";
+    for (const auto& g : goal_vehicles.empty() ? all_sdv_goals : goal_vehicles) out << "    expect reached_goal(" << g << ")\n";
+    if (!goal_vehicles.empty()) out << "    expect not timeout()\n";
+    out << "}\n";
+    std::vector<std::string> files = lib.files();
+    return Converted{out.str(), files};
+}
+
+}  // namespace sdv::compiler::gss
