@@ -563,7 +563,9 @@ const std::vector<CondMap>& condition_map() {
              o.name = "approaching_stop";
              const auto* d = a.take({"distance"});
              o.args.push_back({"distance", d ? v.quantity(*d, "m").value_or("30 m") : "30 m"});
-             o.args.push_back({"kind", "intersection"});
+             // The reference looks for the stop position of a regulated intersection (right of
+             // way, all-way stop, traffic light): a stop line or a junction entry.
+             o.args.push_back({"kind", "any"});
          }},
         {"approaching_stop_sign", {"threshold"},
          [](Args& a, Values& v, CondOut& o) {

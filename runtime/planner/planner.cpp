@@ -118,6 +118,10 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
     const LaneBand& lane = lateral_move ? req.target_lane : req.current_lane;
     const bool check_off_lane = k.off_lane && !lateral_move;
     const bool check_direction = k.direction && cfg.kind != ManeuverKind::reverse;
+    // A vehicle that starts partly outside its lane (placed off-centre, or a lane narrower than
+    // it) may stay as far out as it is, but not go farther.
+    const double allow_left = std::max(req.current_lane.left_d, st.d + 0.5 * req.width_m);
+    const double allow_right = std::min(req.current_lane.right_d, st.d - 0.5 * req.width_m);
 
     // Longitudinal sampled dimension (a) × second dimension (b) × lateral offsets (c).
     ws.a.clear();
@@ -281,8 +285,7 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
                     }
                     if (cause != RejectCause::count_) break;
                     if (check_off_lane &&
-                        (d + 0.5 * req.width_m > req.current_lane.left_d + 1e-6 ||
-                         d - 0.5 * req.width_m < req.current_lane.right_d - 1e-6)) {
+                        (d + 0.5 * req.width_m > allow_left + 1e-6 || d - 0.5 * req.width_m < allow_right - 1e-6)) {
                         cause = RejectCause::off_lane;
                     } else if (check_direction && sp.v(t) < -0.01) {
                         cause = RejectCause::direction;
