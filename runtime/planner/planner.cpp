@@ -238,6 +238,10 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
                 }
                 const Poly dp = Poly::quintic(st.d, st.d_d, st.d_dd, target_d, 0.0, 0.0, T);
                 cand.duration = T;
+                if (ws.keep_candidates) {
+                    cand.s = sp;
+                    cand.d = dp;
+                }
                 cand.target_v = target_v;
                 cand.target_d = target_d;
 

@@ -72,6 +72,7 @@ struct Candidate {
     bool feasible = false;
     RejectCause cause = RejectCause::count_;
     CostTerms cost;
+    Poly s, d;  // the trajectory in the Frenet frame (kept only when tracing)
 };
 
 struct PlanRecord {

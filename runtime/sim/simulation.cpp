@@ -107,6 +107,11 @@ struct Agent {
 
 class World;
 
+// Bounds of the start accelerations of a plan: no vehicle accelerates beyond them (the
+// catalog's default max_long_acc and max_lat_acc).
+constexpr double kMaxStartAcc = 12.0;    // m/s²
+constexpr double kMaxStartLatAcc = 4.9;  // m/s²
+
 // Leaves of one SDV's tree, evaluated against its view of the snapshot.
 class Context : public bt::TickContext {
 public:
@@ -471,11 +476,22 @@ void Context::view() {
     const auto& ref = *a_.ref;
     // Own state at the plan start, along the plan in force.
     road::CartesianState c{a_.x, a_.vx, a_.ax, a_.y, a_.vy, a_.ay};
+    std::optional<planner::FrenetState> in_plan;
     if (a_.plan) {
-        const planner::FrenetState f = a_.plan->traj.at(t_start_ - a_.plan->start);
+        in_plan = a_.plan->traj.at(t_start_ - a_.plan->start);
+        const planner::FrenetState& f = *in_plan;
         c = a_.plan->ref->to_cartesian({f.s, f.s_d, f.s_dd, f.d, f.d_d, f.d_dd});
     }
     self = ref.to_frenet(c);
+    if (in_plan && a_.plan->ref != a_.ref) {
+        // A new reference line (a lane change completed, or the path was rebuilt): converting
+        // accelerations through two lines' curvature amplifies the kinks of map centre lines,
+        // so they carry over from the plan's frame (the lines are near-parallel here).
+        self.s_dd = in_plan->s_dd;
+        self.d_dd = in_plan->d_dd;
+    }
+    self.s_dd = std::clamp(self.s_dd, -kMaxStartAcc, kMaxStartAcc);
+    self.d_dd = std::clamp(self.d_dd, -kMaxStartLatAcc, kMaxStartLatAcc);
     seen.clear();
     const Snap& me = w_.snap_[static_cast<size_t>(a_.index)];
     for (size_t j = 0; j < w_.snap_.size(); ++j) {
@@ -835,6 +851,13 @@ void World::plan_agent(Agent& a, double t0) {
     a.tree->tick(ctx, opt_.trace ? &visits : nullptr);
     if (ctx.switched && a.target_lane != kNoLane) {
         // A lane change / cut-in completed: switch to the new lane's frame, tick once more.
+        // A change off the route re-plans the route from the new lane (when the goal is still
+        // reachable from it; out_of_route reports when it is not).
+        const bool on_route = std::any_of(a.route.begin(), a.route.end(), [&](const road::RouteStep& r) { return r.lane == a.target_lane; });
+        if (a.goal_lane != kNoLane && !on_route) {
+            auto route = road::shortest_route(net_, a.target_lane, a.goal_lane);
+            if (!route.steps.empty()) a.route = route.steps;
+        }
         if (auto r = build_path(a, a.target_lane)) {
             a.ref = r;
             a.ref_s = -1;
@@ -949,7 +972,7 @@ void World::plan_agent(Agent& a, double t0) {
     req.vehicle = static_cast<uint32_t>(a.index);
     req.plan_number = a.plan_count++;
     thread_local planner::PlanWorkspace ws;
-    ws.keep_candidates = false;
+    ws.keep_candidates = opt_.trace;
     planner::PlanResult result = planner::plan(req, ws);
     a.pending = ActivePlan{result.trajectory, t_start, a.ref};
     a.fallback = result.record.fallback;
@@ -972,7 +995,26 @@ void World::plan_agent(Agent& a, double t0) {
         o << "},\"winner\":" << result.record.winner << ",\"fallback\":" << (result.record.fallback ? "true" : "false")
           << ",\"cost\":{\"time\":" << fmt(wc.time) << ",\"efficiency\":" << fmt(wc.efficiency) << ",\"lane_offset\":" << fmt(wc.lane_offset)
           << ",\"long_jerk\":" << fmt(wc.long_jerk) << ",\"lat_jerk\":" << fmt(wc.lat_jerk) << ",\"long_acc\":" << fmt(wc.long_acc)
-          << ",\"lat_acc\":" << fmt(wc.lat_acc) << ",\"proximity\":" << fmt(wc.proximity) << ",\"total\":" << fmt(wc.total) << "}}\n";
+          << ",\"lat_acc\":" << fmt(wc.lat_acc) << ",\"proximity\":" << fmt(wc.proximity) << ",\"total\":" << fmt(wc.total) << "}";
+        o << ",\"start\":{\"s\":" << fmt(req.start.s) << ",\"s_d\":" << fmt(req.start.s_d) << ",\"s_dd\":" << fmt(req.start.s_dd)
+          << ",\"d\":" << fmt(req.start.d) << ",\"d_d\":" << fmt(req.start.d_d) << ",\"d_dd\":" << fmt(req.start.d_dd) << "}";
+        // Every candidate as a world-frame polyline (6 points), with its outcome, for viewers.
+        o << ",\"paths\":[";
+        for (size_t c = 0; c < ws.candidates.size(); ++c) {
+            const planner::Candidate& cand = ws.candidates[c];
+            const char* status = static_cast<int>(c) == result.record.winner ? "winner"
+                                 : cand.feasible                              ? "feasible"
+                                                                              : planner::to_string(cand.cause);
+            o << (c ? "," : "") << "{\"status\":\"" << status << "\",\"xy\":[";
+            constexpr int kPoints = 6;
+            for (int k = 0; k < kPoints; ++k) {
+                const double t = cand.duration * k / (kPoints - 1);
+                const auto p = a.ref->to_cartesian({cand.s.x(t), cand.s.v(t), 0, cand.d.x(t), 0, 0});
+                o << (k ? "," : "") << fmt(p.x, 2) << "," << fmt(p.y, 2);
+            }
+            o << "]}";
+        }
+        o << "]}\n";
         a.trace = o.str();
     }
 }
