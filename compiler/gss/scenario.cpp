@@ -97,8 +97,8 @@ public:
                 o.at = p;
                 o.range = p.range;
                 const std::string who = "static object '" + o.name + "'";
-                if (auto l = tags.find("length"); l != tags.end()) o.length = positive(l->second, who, "length").value_or(1.0);
-                if (auto w = tags.find("width"); w != tags.end()) o.width = positive(w->second, who, "width").value_or(1.0);
+                if (auto l = tags.find("length"); l != tags.end()) o.length = positive(l->second, who, "length").value_or(0.5);
+                if (auto w = tags.find("width"); w != tags.end()) o.width = positive(w->second, who, "width").value_or(0.5);
                 sc.objects.push_back(o);
             } else if (what != "tnode") {
                 diags_.error("E0913", gs->second.range, "node " + std::to_string(id) + ": GeoScenario element '" + what +
@@ -162,7 +162,7 @@ public:
         std::set<int> vids;
         for (const auto& v : sc.vehicles) {
             if (!vids.insert(v.vid).second) diags_.error("E0911", v.range, "vehicle id " + std::to_string(v.vid) + " is used twice");
-            const std::string who = "vehicle " + std::to_string(v.vid) + " ('" + v.name + "')";
+            const std::string who = "vehicle " + std::to_string(v.vid) + (v.name.empty() ? std::string() : " ('" + v.name + "')");
             if (v.btype == "SDV" && !v.route.empty() && !sc.routes.count(v.route)) {
                 diags_.error("E0912", v.range, who + ": route '" + v.route + "' is not defined in the scenario");
             }

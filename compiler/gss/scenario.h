@@ -49,7 +49,7 @@ struct GsLight {
 struct GsObject {
     std::string name;
     GeoPoint at;
-    double length = 1.0, width = 1.0;
+    double length = 0.5, width = 0.5;  // GeoScenario objects are points: a 0.5 m square
     diag::SourceRange range;
 };
 
