@@ -356,6 +356,11 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
         const BtItem* it = args.take({f.ref});
         if (it == nullptr) continue;
         const catalog::ParamDef* p = *f.ours ? m->find_param(f.ours) : nullptr;
+        if (*f.ours && p == nullptr) {  // the mapping table names a parameter the catalog lacks
+            diags.error("E0903", it->key_range, std::string("'") + f.ref + "' maps to '" + f.ours + "', which maneuver " +
+                                                    cm.maneuver + " does not have (an sdv bug: please report it)");
+            continue;
+        }
         std::optional<std::string> text;
         switch (f.conv) {
             case Conv::sampled: text = val.sampled(*it, unit_of(*p)); break;
