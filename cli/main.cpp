@@ -24,6 +24,7 @@
 #include "runtime/io/outputs.h"
 #include "runtime/io/plot.h"
 #include "runtime/io/reuse.h"
+#include "runtime/io/view.h"
 #include "runtime/sim/simulation.h"
 
 #include <unistd.h>
@@ -215,7 +216,7 @@ struct RunArgs {
     std::string file, out, scenario;
     std::optional<uint64_t> seed;
     int threads = 1;
-    bool trace = false, realtime = false, gss_outputs = false;
+    bool trace = false, realtime = false, gss_outputs = false, view = false;
 };
 
 int cmd_run(const RunArgs& args, const Common& c, const WarningFlags& w) {
@@ -306,6 +307,18 @@ int cmd_run(const RunArgs& args, const Common& c, const WarningFlags& w) {
         }
     }
     std::cout << io::report(*program, index, r) << "outputs in " << dir << "\n";
+    if (args.view) {
+        std::string error;
+        const std::string html = io::view_report(dir, error);
+        const std::string path = (std::filesystem::path(dir) / "report.html").string();
+        std::ofstream o(path, std::ios::binary);
+        o << html;
+        if (!error.empty() || !o) {
+            std::cerr << "sdv: error: " << (error.empty() ? "cannot write '" + path + "'" : error) << "\n";
+            return kFailure;
+        }
+        std::cout << "report in " << path << "\n";
+    }
     return r.passed() ? kOk : kFailure;
 }
 
@@ -529,6 +542,7 @@ int run(int argc, char** argv) {
     run_cmd->add_option("--scenario", run_args.scenario, "which scenario of the file");
     run_cmd->add_flag("--trace", run_args.trace, "write decisions.jsonl (every planning decision)");
     run_cmd->add_flag("--realtime", run_args.realtime, "pace the run to the wall clock");
+    run_cmd->add_flag("--view", run_args.view, "also write DIR/report.html (see `sdv view`)");
     run_cmd->add_flag("--gss-outputs", run_args.gss_outputs,
                       "also write GeoScenario's violations.json and trajectory_v<id>.csv");
     add_common(run_cmd);
@@ -562,6 +576,12 @@ int run(int argc, char** argv) {
     plot_cmd->add_option("-o,--output", plot_out, "SVG file ('-' for stdout)");
 
     std::string check_file;
+    std::string view_dir, view_out;
+    auto* view_cmd = app.add_subcommand("view", "one self-contained HTML report of a run (map, playback, charts, "
+                                                "timeline, expectations, decisions); opens offline");
+    view_cmd->add_option("run_dir", view_dir, "a run output directory (sdv run -o; --trace adds the decisions)")->required();
+    view_cmd->add_option("-o,--output", view_out, "HTML file (default RUN_DIR/report.html; '-' for stdout)");
+
     std::string convert_file, convert_out;
     auto* convert_cmd = app.add_subcommand("convert", "convert a GeoScenario scenario (.osm) or behavior tree "
                                                       "(.btree) into .sdv source");
@@ -593,6 +613,27 @@ int run(int argc, char** argv) {
     if (compile->parsed()) return cmd_compile(compile_file, compile_out, emit, common, warnings);
     if (cat->parsed()) return cmd_catalog(catalog_format);
     if (convert_cmd->parsed()) return cmd_convert(convert_file, convert_out, common, warnings);
+    if (view_cmd->parsed()) {
+        std::string error;
+        const std::string html = io::view_report(view_dir, error);
+        if (!error.empty()) {
+            std::cerr << "sdv: error: " << error << "\n";
+            return kFailure;
+        }
+        if (view_out == "-") {
+            std::cout << html;
+            return kOk;
+        }
+        const std::string path = view_out.empty() ? (std::filesystem::path(view_dir) / "report.html").string() : view_out;
+        std::ofstream o(path, std::ios::binary);
+        o << html;
+        if (!o) {
+            std::cerr << "sdv: error: cannot write '" << path << "'\n";
+            return kFailure;
+        }
+        std::cout << "wrote " << path << "\n";
+        return kOk;
+    }
     if (fmt->parsed()) return cmd_fmt(fmt_files, fmt_check, fmt_stdout, common);
     if (diff_cmd->parsed()) return cmd_diff(diff_a, diff_b, diff_runs, common);
     if (reuse_cmd->parsed()) return cmd_reuse(reuse_files, common);

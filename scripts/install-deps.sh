@@ -1,8 +1,13 @@
 #!/usr/bin/env bash
-# Installs the Debian packages sdv builds against (SPEC §2). Run as root on Debian 12.
+# Installs the Debian packages sdv builds against (SPEC §2), plus Chromium and Node.js for the
+# browser test of `sdv view` (only with --tests). Run as root on Debian 12.
 set -euo pipefail
 pkgs=(build-essential cmake antlr4 libantlr4-runtime-dev libeigen3-dev libpugixml-dev libcli11-dev
       doctest-dev nlohmann-json3-dev libgeographiclib-dev libbenchmark-dev)
+if [ "${1:-}" = --tests ]; then
+    pkgs+=(chromium)
+    command -v npm >/dev/null || pkgs+=(nodejs npm)
+fi
 missing=()
 for p in "${pkgs[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

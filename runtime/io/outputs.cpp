@@ -80,6 +80,8 @@ std::string summary_json(const ir::Program& p, int scenario, const sim::RunResul
         const auto& m = r.vehicles[i];
         Json vj;
         vj["vehicle"] = sc.vehicles[i].name;
+        vj["length"] = sc.vehicles[i].length;
+        vj["width"] = sc.vehicles[i].width;
         vj["max_speed"] = num(m.max_speed);
         vj["max_acc"] = num(m.max_acc);
         vj["max_jerk"] = num(m.max_jerk);

@@ -1,0 +1,207 @@
+#include "runtime/io/view.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <vector>
+
+namespace sdv::io {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+bool read(const fs::path& p, std::string& out) {
+    std::ifstream in(p, std::ios::binary);
+    if (!in) return false;
+    std::stringstream ss;
+    ss << in.rdbuf();
+    out = ss.str();
+    return true;
+}
+
+// One vehicle's columns, kept as the CSV's own number text (already rounded).
+struct Series {
+    std::string name, kind;
+    long first = -1;
+    std::vector<std::string> x, y, yaw, speed, accel, s, d;
+    std::vector<int> lane, maneuver;
+};
+
+void array(std::string& out, const std::vector<std::string>& v) {
+    out += '[';
+    for (size_t i = 0; i < v.size(); ++i) {
+        if (i) out += ',';
+        out += v[i].empty() ? "null" : v[i];
+    }
+    out += ']';
+}
+
+void array(std::string& out, const std::vector<int>& v) {
+    out += '[';
+    for (size_t i = 0; i < v.size(); ++i) {
+        if (i) out += ',';
+        out += std::to_string(v[i]);
+    }
+    out += ']';
+}
+
+int index_of(std::vector<std::string>& names, std::map<std::string, int>& idx, const std::string& n) {
+    auto [it, fresh] = idx.try_emplace(n, static_cast<int>(names.size()));
+    if (fresh) names.push_back(n);
+    return it->second;
+}
+
+}  // namespace
+
+std::string view_report(const std::string& run_dir, std::string& error) {
+    const fs::path dir(run_dir);
+    std::string summary_text, road_text, csv, decisions_text;
+    if (!read(dir / "summary.json", summary_text) || !read(dir / "trajectories.csv", csv)) {
+        error = "'" + run_dir + "' is not a run directory (it needs summary.json and trajectories.csv from `sdv run -o`)";
+        return "";
+    }
+    Json summary = Json::parse(summary_text, nullptr, false);
+    if (summary.is_discarded() || !summary.is_object()) {
+        error = (dir / "summary.json").string() + ": not valid JSON";
+        return "";
+    }
+    Json road = Json::object();
+    if (read(dir / "road.json", road_text)) {
+        road = Json::parse(road_text, nullptr, false);
+        if (road.is_discarded()) {
+            error = (dir / "road.json").string() + ": not valid JSON";
+            return "";
+        }
+    }
+    // trajectories.csv: time,tick,vehicle,kind,x,y,yaw,speed,accel,s,d,lane,maneuver
+    std::vector<std::string> times;
+    std::vector<Series> vehicles;
+    std::map<std::string, size_t> by_name;
+    std::vector<std::string> lanes, maneuvers;
+    std::map<std::string, int> lane_idx, man_idx;
+    std::istringstream in(csv);
+    std::string line;
+    std::getline(in, line);
+    if (line.rfind("time,tick,vehicle,kind,x,y,yaw,speed,accel,s,d,lane,maneuver", 0) != 0) {
+        error = (dir / "trajectories.csv").string() + ": unexpected header";
+        return "";
+    }
+    size_t row = 1;
+    while (std::getline(in, line)) {
+        ++row;
+        std::vector<std::string> f;
+        f.reserve(13);
+        size_t start = 0;
+        for (size_t i = 0; i <= line.size(); ++i) {
+            if (i == line.size() || line[i] == ',') {
+                f.emplace_back(line, start, i - start);
+                start = i + 1;
+            }
+        }
+        if (f.size() != 13) {
+            error = (dir / "trajectories.csv").string() + ":" + std::to_string(row) + ": expected 13 columns";
+            return "";
+        }
+        const long tick = std::strtol(f[1].c_str(), nullptr, 10);
+        if (tick < 0 || tick > 100000000) {
+            error = (dir / "trajectories.csv").string() + ":" + std::to_string(row) + ": bad tick";
+            return "";
+        }
+        if (static_cast<size_t>(tick) >= times.size()) times.resize(static_cast<size_t>(tick) + 1);
+        times[static_cast<size_t>(tick)] = f[0];
+        auto [it, fresh] = by_name.try_emplace(f[2], vehicles.size());
+        if (fresh) {
+            vehicles.emplace_back();
+            vehicles.back().name = f[2];
+            vehicles.back().kind = f[3];
+            vehicles.back().first = tick;
+        }
+        Series& v = vehicles[it->second];
+        v.x.push_back(f[4]);
+        v.y.push_back(f[5]);
+        v.yaw.push_back(f[6]);
+        v.speed.push_back(f[7]);
+        v.accel.push_back(f[8]);
+        v.s.push_back(f[9]);
+        v.d.push_back(f[10]);
+        v.lane.push_back(index_of(lanes, lane_idx, f[11]));
+        v.maneuver.push_back(index_of(maneuvers, man_idx, f[12].empty() ? "none" : f[12]));
+    }
+    // Sizes from the summary (written by sdv run); defaults otherwise.
+    std::map<std::string, std::pair<double, double>> sizes;
+    if (summary.contains("metrics") && summary["metrics"].contains("vehicles")) {
+        for (const auto& vj : summary["metrics"]["vehicles"]) {
+            if (vj.contains("vehicle") && vj.contains("length") && vj.contains("width")) {
+                sizes[vj["vehicle"].get<std::string>()] = {vj["length"].get<double>(), vj["width"].get<double>()};
+            }
+        }
+    }
+    std::string data = "{\"format\":\"sdv-view/1\",\"scenario\":" + Json(summary.value("scenario", "")).dump();
+    data += ",\"summary\":" + summary.dump() + ",\"road\":" + road.dump() + ",\"times\":";
+    array(data, times);
+    data += ",\"lanes\":" + Json(lanes).dump() + ",\"maneuvers\":" + Json(maneuvers).dump() + ",\"vehicles\":[";
+    for (size_t i = 0; i < vehicles.size(); ++i) {
+        const Series& v = vehicles[i];
+        const auto sz = sizes.count(v.name) ? sizes[v.name] : std::pair<double, double>{4.5, 1.8};
+        data += (i ? ",{" : "{");
+        data += "\"name\":" + Json(v.name).dump() + ",\"kind\":" + Json(v.kind).dump() + ",\"length\":" + Json(sz.first).dump() +
+                ",\"width\":" + Json(sz.second).dump() + ",\"first\":" + std::to_string(v.first);
+        const std::pair<const char*, const std::vector<std::string>*> cols[] = {
+            {"x", &v.x}, {"y", &v.y}, {"yaw", &v.yaw}, {"speed", &v.speed}, {"accel", &v.accel}, {"s", &v.s}, {"d", &v.d}};
+        for (const auto& [key, col] : cols) {
+            data += ",\"" + std::string(key) + "\":";
+            array(data, *col);
+        }
+        data += ",\"lane\":";
+        array(data, v.lane);
+        data += ",\"maneuver\":";
+        array(data, v.maneuver);
+        data += "}";
+    }
+    data += "],\"decisions\":";
+    if (read(dir / "decisions.jsonl", decisions_text)) {
+        data += "[";
+        std::istringstream dl(decisions_text);
+        bool first = true;
+        size_t n = 0;
+        while (std::getline(dl, line)) {
+            ++n;
+            if (line.empty()) continue;
+            Json d = Json::parse(line, nullptr, false);
+            if (d.is_discarded()) {
+                error = (dir / "decisions.jsonl").string() + ":" + std::to_string(n) + ": not valid JSON";
+                return "";
+            }
+            data += (first ? "" : ",") + d.dump();
+            first = false;
+        }
+        data += "]";
+    } else {
+        data += "null";
+    }
+    data += "}";
+    // Inside <script>, "</script>" or "<!--" in a string would end or confuse the element: '<'
+    // is written as its JSON escape, which JSON.parse reads back unchanged (outside strings
+    // JSON never contains '<').
+    std::string safe;
+    safe.reserve(data.size());
+    for (char c : data) {
+        if (c == '<') safe += "\\u003c";
+        else safe += c;
+    }
+    std::string html(viewer_template());
+    const std::string marker = "__SDV_DATA__";
+    const size_t at = html.find(marker);
+    if (at == std::string::npos) {
+        error = "the embedded viewer has no data placeholder (a build problem)";
+        return "";
+    }
+    html.replace(at, marker.size(), safe);
+    return html;
+}
+
+}  // namespace sdv::io
