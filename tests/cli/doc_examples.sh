@@ -53,8 +53,19 @@ open(f"{d}/cut_in.sdv", "w").write(blocks[1])
 open(f"{d}/cut_in_wide.sdv", "w").write(blocks[2])
 diff = subprocess.run([sdv, "diff", "cut_in.sdv", "cut_in_wide.sdv"], cwd=d, capture_output=True, text=True).stdout
 want_diff = next(q for q in quoted if q.startswith("vehicle v2"))
+run = subprocess.run([sdv, "run", "cut_in.sdv", "-o", "out/cut_in", "--trace", "--view"], cwd=d, capture_output=True, text=True).stdout
+got_view = run.splitlines()[-1] + "\n" if run else ""
+want_view = next(q for q in quoted if q.startswith("report in"))
+report = os.path.join(d, "out/cut_in/report.html")
 ok = True
-for name, got, exp in (("error example", lint, want), ("diff example", diff, want_diff)):
+if not os.path.exists(report) or "sdv-view/1" not in open(report).read():
+    print("FAIL tutorial: no report with its data at out/cut_in/report.html")
+    ok = False
+view = subprocess.run([sdv, "view", "out/cut_in", "-o", "report.html"], cwd=d, capture_output=True, text=True)
+if view.returncode != 0 or open(os.path.join(d, "report.html")).read() != open(report).read():
+    print("FAIL tutorial: sdv view does not write the same report as sdv run --view")
+    ok = False
+for name, got, exp in (("error example", lint, want), ("diff example", diff, want_diff), ("view example", got_view, want_view)):
     if got != exp:
         print(f"FAIL tutorial {name} differs:\n--- documented\n{exp}--- actual\n{got}")
         ok = False
