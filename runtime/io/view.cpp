@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <cmath>
 #include <map>
 #include <sstream>
 #include <vector>
@@ -31,11 +32,21 @@ struct Series {
     std::vector<int> lane, maneuver;
 };
 
+// "12.5000" → "12.5", "-0.0000" → "0": the same number in fewer bytes.
+std::string_view trim(std::string_view t) {
+    if (t.find('.') == std::string_view::npos) return t;
+    while (t.back() == '0') t.remove_suffix(1);
+    if (t.back() == '.') t.remove_suffix(1);
+    if (t == "-0") return "0";
+    return t;
+}
+
 void array(std::string& out, const std::vector<std::string>& v) {
     out += '[';
     for (size_t i = 0; i < v.size(); ++i) {
         if (i) out += ',';
-        out += v[i].empty() ? "null" : v[i];
+        if (v[i].empty()) out += "null";
+        else out += trim(v[i]);
     }
     out += ']';
 }
@@ -163,6 +174,12 @@ std::string view_report(const std::string& run_dir, std::string& error) {
         data += "}";
     }
     data += "],\"decisions\":";
+    // Decisions, compacted for large runs (the viewer expands them on demand): tree nodes as
+    // [path index, status index] into `node_paths` / `node_statuses`, candidate paths as one
+    // flat array [status index, x0, y0, ..., x5, y5, status index, ...] into `path_statuses`
+    // with decimetre coordinates.
+    std::vector<std::string> node_paths, node_statuses, path_statuses;
+    std::map<std::string, int> node_idx, status_idx, path_status_idx;
     if (read(dir / "decisions.jsonl", decisions_text)) {
         data += "[";
         std::istringstream dl(decisions_text);
@@ -172,9 +189,27 @@ std::string view_report(const std::string& run_dir, std::string& error) {
             ++n;
             if (line.empty()) continue;
             Json d = Json::parse(line, nullptr, false);
-            if (d.is_discarded()) {
+            if (d.is_discarded() || !d.is_object()) {
                 error = (dir / "decisions.jsonl").string() + ":" + std::to_string(n) + ": not valid JSON";
                 return "";
+            }
+            if (d.contains("nodes") && d["nodes"].is_array()) {
+                Json packed = Json::array();
+                for (const auto& nd : d["nodes"]) {
+                    if (!nd.is_object()) continue;
+                    packed.push_back({index_of(node_paths, node_idx, nd.value("node", "")),
+                                      index_of(node_statuses, status_idx, nd.value("status", ""))});
+                }
+                d["nodes"] = std::move(packed);
+            }
+            if (d.contains("paths") && d["paths"].is_array()) {
+                Json flat = Json::array();
+                for (const auto& p : d["paths"]) {
+                    if (!p.is_object() || !p.contains("xy") || !p["xy"].is_array() || p["xy"].size() != 12) continue;
+                    flat.push_back(index_of(path_statuses, path_status_idx, p.value("status", "")));
+                    for (const auto& c : p["xy"]) flat.push_back(c.is_number() ? std::round(c.get<double>() * 10) / 10 : 0.0);
+                }
+                d["paths"] = std::move(flat);
             }
             data += (first ? "" : ",") + d.dump();
             first = false;
@@ -183,6 +218,8 @@ std::string view_report(const std::string& run_dir, std::string& error) {
     } else {
         data += "null";
     }
+    data += ",\"node_paths\":" + Json(node_paths).dump() + ",\"node_statuses\":" + Json(node_statuses).dump() +
+            ",\"path_statuses\":" + Json(path_statuses).dump();
     data += "}";
     // Inside <script>, "</script>" or "<!--" in a string would end or confuse the element: '<'
     // is written as its JSON escape, which JSON.parse reads back unchanged (outside strings
