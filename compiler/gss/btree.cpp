@@ -62,7 +62,11 @@ private:
     static constexpr int kTab = 4;  // a tab advances the indentation to the next multiple of 4
 
     std::unique_ptr<Token> synth(size_t type, const std::string& text, const Token& at) {
-        auto t = std::make_unique<antlr4::CommonToken>(type, text);
+        // With a source, like the lexer's tokens: ANTLR's error recovery builds "missing"
+        // tokens from the current one's source.
+        auto t = std::make_unique<antlr4::CommonToken>(std::pair<antlr4::TokenSource*, antlr4::CharStream*>{this, lexer_.getInputStream()},
+                                                       type, Token::DEFAULT_CHANNEL, at.getStartIndex(), at.getStartIndex());
+        t->setText(text);
         t->setLine(at.getLine());
         t->setCharPositionInLine(at.getCharPositionInLine());
         t->setStartIndex(at.getStartIndex());
@@ -133,6 +137,12 @@ private:
         pending_.push_back(std::move(t));
         last_was_nl_ = true;
         if (w > stack_.back()) {
+            if (static_cast<int>(stack_.size()) > syntax::kMaxNesting) {
+                diags_.error("E0004", pos_.range(at.getStartIndex(), at.getStartIndex() + 1),
+                             "nesting too deep: more than " + std::to_string(syntax::kMaxNesting) + " levels of indentation")
+                    .notes.push_back({{}, "split the tree into subtrees"});
+                throw CancelParse{};
+            }
             stack_.push_back(w);
             pending_.push_back(synth(BtreeParser::INDENT, "<indent>", at));
         } else {

@@ -72,6 +72,36 @@ with tempfile.TemporaryDirectory() as tmp:
             count += 1
             if (err := run(["check-ir"], str(m))):
                 failures.append(f"check-ir {src.name} mutant {k}: {err}")
+    # GeoScenario inputs: every .btree of the reference's library (mutated in a copy of the
+    # library, so that subtrees resolve) and every scenario.
+    gss = root.resolve().parent / "shared" / "data" / "geoscenario"
+    if gss.is_dir():
+        lib = tmp / "btrees"
+        lib.mkdir()
+        originals = {p.name: p.read_bytes() for p in sorted((gss / "btrees" / "sdv").glob("*.btree"))}
+        for name, data in originals.items():
+            (lib / name).write_bytes(data)
+        deep = b"".join(b"    " * d + b"?\n" for d in range(1, 200))
+        for name, data in originals.items():
+            for k in range(max(1, n // 3)):
+                mutant = mutate(data) if k % 10 else data + deep
+                (lib / name).write_bytes(mutant)
+                count += 1
+                if (err := run(["lint"], str(lib / name))):
+                    keep = tmp.parent / f"sdv_fuzz_{k}_{name}"
+                    keep.write_bytes(mutant)
+                    failures.append(f"lint {name} mutant {k} ({keep}): {err}")
+            (lib / name).write_bytes(data)
+        for src in sorted((gss / "scenarios").glob("*.osm")):
+            data = src.read_bytes()
+            for k in range(max(1, n // 10)):
+                m = tmp / src.name
+                m.write_bytes(mutate(data))
+                count += 1
+                if (err := run(["lint", "--btree-path", str(lib), "--map-dir", str(gss)], str(m))):
+                    keep = tmp.parent / f"sdv_fuzz_{k}_{src.name}"
+                    keep.write_bytes(m.read_bytes())
+                    failures.append(f"lint {src.name} mutant {k} ({keep}): {err}")
 print(f"{count} mutants, {len(failures)} failures")
 for f in failures[:20]:
     print("FAIL", f)
