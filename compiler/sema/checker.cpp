@@ -328,10 +328,33 @@ private:
     }
 
     // ---------------------------------------------------------------- symbols
+    // In an imported file, a subtree reference to a tree of the same file is written without
+    // the file's qualifier (`subtree give_way()` inside std/junction.sdv): qualify it, so that
+    // it names the same tree however the file is imported.
+    static void qualify_local_references(Unit& u) {
+        if (u.qualifier.empty()) return;
+        std::set<std::string> local;
+        for (const auto& t : u.file->trees) local.insert(t.name.text);
+        std::vector<ast::Ident> prefix;
+        std::stringstream q(u.qualifier);
+        for (std::string part; std::getline(q, part, '.');) prefix.push_back({part, {}});
+        std::function<void(ast::Node&)> walk = [&](ast::Node& n) {
+            if (n.kind == ast::NodeKind::subtree && n.callee.parts.size() == 1 && local.count(n.callee.parts[0].text)) {
+                for (auto& p : prefix) p.range = n.callee.range;
+                n.callee.parts.insert(n.callee.parts.begin(), prefix.begin(), prefix.end());
+            }
+            for (auto& c : n.children) walk(*c);
+        };
+        for (auto& t : u.file->trees) {
+            for (auto& n : t.body) walk(*n);
+        }
+    }
+
     void collect_symbols() {
         std::map<std::string, SourceRange> road_names;
         for (auto& u : units_) {
             if (u.file == nullptr) continue;
+            qualify_local_references(u);
             for (const auto& t : u.file->trees) {
                 TreeSym sym;
                 sym.decl = &t;
@@ -1341,11 +1364,11 @@ private:
         sym.ok = read_setting(set, "arm_length", Dim::length, 20.0, 10000.0, false, road.arm_length) && sym.ok;
         if (auto* s = set["control"]) {
             const std::string c = s->values[0].lo.name.str();
-            const std::vector<std::string> choices = {"stop_signs", "traffic_lights", "none"};
+            const std::vector<std::string> choices = {"stop_signs", "two_way_stops", "traffic_lights", "none"};
             if (std::find(choices.begin(), choices.end(), c) == choices.end()) {
                 auto* d = error("E0206", s->values[0].range, "unknown junction control '" + c + "'");
                 add_suggestion(*d, c, choices);
-                d->notes.push_back({{}, "expected stop_signs, traffic_lights or none"});
+                d->notes.push_back({{}, "expected stop_signs, two_way_stops, traffic_lights or none"});
                 sym.ok = false;
             } else {
                 road.control = c;

@@ -355,6 +355,10 @@ std::vector<ConditionDef> build_conditions() {
         "a timer: SUCCESS once the node has been ticked on every planning cycle for a time, "
         "FAILURE before (a cycle that skips the node restarts it)",
         {qty("time", Dim::time, DefaultValue{1}, 0, 1e4, "time to wait")});
+    add("stopped_at_line", ConditionKind::stopped_at_line,
+        "the vehicle has come to a stop at the stop line of its current lane (within a distance "
+        "before it): the latch of a stop sign, true until it leaves that lane",
+        {qty("distance", Dim::length, DefaultValue{3}, 0, 100, "largest gap from the front bumper to the line")});
     return cs;
 }
 

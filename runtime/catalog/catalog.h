@@ -90,6 +90,7 @@ enum class ConditionKind {
     all_way_stop_turn,
     out_of_route,
     wait,
+    stopped_at_line,
 };
 
 struct ConditionDef {

@@ -207,6 +207,17 @@ BuildResult build_junction(const JunctionSpec& spec) {
             }
         }
     }
+    if (spec.control == JunctionSpec::two_way_stops) {
+        RightOfWay row;
+        const auto index = static_cast<int32_t>(out.network.rights_of_way.size());
+        for (int a = 0; a < 4; ++a) {
+            for (int k = 1; k <= n; ++k) {
+                (a % 2 == 0 ? row.yield : row.priority).push_back(in[a][k]);  // arms 0, 2: north, south
+                out.network.lane_mut(in[a][k]).right_of_way = index;
+            }
+        }
+        out.network.rights_of_way.push_back(std::move(row));
+    }
     if (spec.control == JunctionSpec::traffic_lights) {
         for (int g = 0; g < 2; ++g) {
             TrafficLight tl;

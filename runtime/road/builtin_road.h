@@ -12,6 +12,8 @@
 // the junction from each incoming to each other arm's outgoing lane, "<j>.<from>_to_<to>" (for
 // lane k > 1: "<j>.<from>_to_<to>.k"). Stop lines at the end of every incoming lane. With
 // traffic lights: "<j>.ns" controls the north and south incoming lanes, "<j>.ew" east and west.
+// With two-way stops the north and south incoming lanes yield (a right-of-way element) to east
+// and west.
 #pragma once
 
 #include <string>
@@ -43,7 +45,9 @@ struct JunctionSpec {
     int lanes_per_direction = 1;
     double lane_width_m = 3.5;
     double speed_limit_mps = 11.11;
-    enum Control { stop_signs, traffic_lights, none } control = stop_signs;
+    // stop_signs: an all-way stop; two_way_stops: the north and south arms stop and yield to
+    // the east and west arms, which have priority.
+    enum Control { stop_signs, traffic_lights, two_way_stops, none } control = stop_signs;
 };
 
 struct BuildResult {

@@ -92,6 +92,8 @@ struct Agent {
     double goal_s = 0;
     bool goal_reached = false;
     double goal_dist = -1;  // along-track distance to the goal once within reach (< 0: not yet)
+    LaneId stopped_line = kNoLane;  // the lane at whose stop line the vehicle last came to a stop
+    double stopped_gap = 0;         // its front bumper's distance to that line then
     int32_t maneuver = -1;  // selected node
     std::string maneuver_name = "none";
     LaneId target_lane = kNoLane;  // of a running lane change / cut-in
@@ -327,9 +329,10 @@ std::string World::init() {
             spec.lane_width_m = r.lane_width;
             spec.speed_limit_mps = r.speed_limit;
             spec.arm_length_m = r.arm_length;
-            spec.control = r.control == "traffic_lights" ? road::JunctionSpec::traffic_lights
-                           : r.control == "none"         ? road::JunctionSpec::none
-                                                         : road::JunctionSpec::stop_signs;
+            spec.control = r.control == "traffic_lights"  ? road::JunctionSpec::traffic_lights
+                           : r.control == "two_way_stops" ? road::JunctionSpec::two_way_stops
+                           : r.control == "none"          ? road::JunctionSpec::none
+                                                          : road::JunctionSpec::stop_signs;
             auto b = road::build_junction(spec);
             if (!b.errors.empty()) return where + ": " + b.errors.front();
             net_ = std::move(b.network);
@@ -753,6 +756,7 @@ bool Context::condition(const ir::Node& n, int32_t index) {
                             std::find(a_.path.begin(), a_.path.end(), a_.goal_lane) != a_.path.end();
             return !on;
         }
+        case ConditionKind::stopped_at_line: return a_.stopped_line == a_.lane && a_.stopped_gap <= num(n, "distance");
         case ConditionKind::wait: {
             auto [it, fresh] = a_.waits.try_emplace(index, t0_, a_.plan_count);
             if (!fresh && it->second.second + 1 != a_.plan_count && it->second.second != a_.plan_count) it->second.first = t0_;
@@ -1152,6 +1156,15 @@ RunResult World::run() {
             vm.max_acc = std::max(vm.max_acc, std::fabs(a.accel));
             if (tick > 0) vm.max_jerk = std::max(vm.max_jerk, std::fabs(a.accel - a.prev_accel) / dt_);
             a.prev_accel = a.accel;
+            // Stopping at a stop line (the front bumper within 5 m before it) is remembered.
+            if (a.lane != kNoLane && std::fabs(a.speed) < 0.1) {
+                const auto& l = net_.lane(a.lane);
+                const double gap = l.stop_line_s ? *l.stop_line_s - (a.lane_s + 0.5 * a.v->length) : -1;
+                if (gap >= -0.5 && gap <= 5.0 && (a.stopped_line != a.lane || gap < a.stopped_gap)) {
+                    a.stopped_line = a.lane;
+                    a.stopped_gap = std::max(0.0, gap);
+                }
+            }
             if (a.goal_lane != kNoLane && !a.goal_reached) {
                 // Within 4 m along and 2 m across the goal the vehicle may keep closing in; the
                 // goal is reached when the along-track distance stops decreasing (overshot when

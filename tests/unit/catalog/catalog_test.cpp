@@ -78,3 +78,11 @@ TEST_CASE("renderings mention every entry") {
     CHECK(format_default(*maneuver(ManeuverKind::keep_velocity).find_param("speed")) ==
           "14 m/s ±10% samples 3");
 }
+
+TEST_CASE("every maneuver and condition sits at the index of its kind (the IR stores indices)") {
+    for (size_t i = 0; i < maneuvers().size(); ++i) CHECK(static_cast<size_t>(maneuvers()[i].kind) == i);
+    for (size_t i = 0; i < conditions().size(); ++i) {
+        INFO(conditions()[i].name);
+        CHECK(static_cast<size_t>(conditions()[i].kind) == i);
+    }
+}
