@@ -740,7 +740,7 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
             for (const BtNode& c : n.children) s += lower_node(c, depth + 1, t);
             return s + ind + "}\n";
         }
-        case BtNode::Kind::subtree: return ind + lower_subtree(n, t);
+        case BtNode::Kind::subtree: return ind + lower_subtree(n);
         case BtNode::Kind::condition:
         case BtNode::Kind::maneuver: break;
     }
@@ -797,7 +797,7 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
     return s + ")\n";
 }
 
-std::string BtreeLibrary::lower_subtree(const BtNode& n, TreeState& t) {
+std::string BtreeLibrary::lower_subtree(const BtNode& n) {
     const Lowered* sub = nullptr;
     if (auto path = find(n.label)) {
         sub = lower_file(*path, n.label_range);
@@ -858,7 +858,6 @@ std::string BtreeLibrary::lower_subtree(const BtNode& n, TreeState& t) {
             }
         }
     }
-    (void)t;
     std::string s = "subtree " + sub->name + "(";
     for (size_t i = 0; i < out.size(); ++i) s += (i ? ", " : "") + out[i].name + " = " + out[i].text;
     return s + ")\n";

@@ -60,7 +60,7 @@ private:
     std::optional<std::string> find(const std::string& name) const;
     const Lowered* lower_file(const std::string& path, diag::SourceRange where);
     std::string lower_node(const BtNode& n, int depth, TreeState& t);
-    std::string lower_subtree(const BtNode& n, TreeState& t);
+    std::string lower_subtree(const BtNode& n);
 
     std::vector<std::string> search_path_;
     diag::SourceManager& sm_;

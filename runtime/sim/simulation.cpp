@@ -113,6 +113,7 @@ class World;
 // catalog's default max_long_acc and max_lat_acc).
 constexpr double kMaxStartAcc = 12.0;    // m/s²
 constexpr double kMaxStartLatAcc = 4.9;  // m/s²
+constexpr double kRestSpeed = 0.01;      // m/s: slower than this a vehicle is at rest
 
 // Leaves of one SDV's tree, evaluated against its view of the snapshot.
 class Context : public bt::TickContext {
@@ -495,6 +496,9 @@ void Context::view() {
     }
     self.s_dd = std::clamp(self.s_dd, -kMaxStartAcc, kMaxStartAcc);
     self.d_dd = std::clamp(self.d_dd, -kMaxStartLatAcc, kMaxStartLatAcc);
+    // At rest the brakes hold: the end of a stopping plan's deceleration does not carry into the
+    // next plan (it would make every start from standstill roll backwards first).
+    if (std::fabs(self.s_d) < kRestSpeed) self.s_dd = 0;
     seen.clear();
     const Snap& me = w_.snap_[static_cast<size_t>(a_.index)];
     for (size_t j = 0; j < w_.snap_.size(); ++j) {
