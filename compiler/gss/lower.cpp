@@ -535,6 +535,9 @@ const std::vector<CondMap>& condition_map() {
                  opt(o.args, "lane", v.side(*l));
              }
              if (const auto* d = a.take({"distance"})) opt(o.args, "distance", v.quantity(*d, "m"));
+             // The reference's lane occupancy holds vehicles only: static objects are avoided
+             // by the planner's collision check, not followed.
+             o.args.push_back({"objects", "false"});
          }},
         {"vehicle_moving", {"vid", "zid", "vel"},
          [](Args& a, Values& v, CondOut& o) {

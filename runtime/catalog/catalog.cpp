@@ -305,7 +305,8 @@ std::vector<ConditionDef> build_conditions() {
         "a vehicle is ahead in a lane within a distance or time gap",
         {choice("lane", kLanes3, 1, "which lane"),
          qty("distance", Dim::length, DefaultValue{30}, 0, kMaxDistance, "look-ahead distance"),
-         opt_qty("time_gap", Dim::time, 0, 1e4, "or: look-ahead time at own speed")});
+         opt_qty("time_gap", Dim::time, 0, 1e4, "or: look-ahead time at own speed"),
+         boolean("objects", true, "count static objects too (GeoScenario's lane occupancy counts vehicles only)")});
     add("can_lane_change", ConditionKind::can_lane_change,
         "the target lane exists and has no vehicle within ±gap of own position",
         {choice("lane", {"left", "right"}, std::nullopt, "target lane"),

@@ -132,7 +132,9 @@ private:
     double num(const ir::Node& n, const char* name) const;
     const ir::ParamValue* param(const ir::Node& n, const char* name) const;
     const Seen* vehicle(const ir::Node& n, const char* name, bool default_leader) const;
-    const Seen* nearest(int band, int where) const;  // band −1 right, 0 own, 1 left; where 1 ahead, 0 beside, −1 behind
+    // band −1 right, 0 own, 1 left; where 1 ahead, 0 beside, −1 behind; static objects unless
+    // `objects` is false.
+    const Seen* nearest(int band, int where, bool objects = true) const;
     int band_of(double d) const;
     double lane_width() const;
 
@@ -545,10 +547,11 @@ double Context::num(const ir::Node& n, const char* name) const {
     return p->number.value;
 }
 
-const Seen* Context::nearest(int band, int where) const {
+const Seen* Context::nearest(int band, int where, bool objects) const {
     const Seen* best = nullptr;
     double best_ds = INFINITY;
     for (const Seen& s : seen) {
+        if (!objects && w_.snap_[static_cast<size_t>(s.index)].is_static) continue;
         if (band_of(s.f.d - (band * 0.0)) != band) continue;
         const double ds = s.f.s - self.s;
         const double half = 0.5 * (s.length + a_.v->length);
@@ -643,7 +646,8 @@ bool Context::condition(const ir::Node& n, int32_t index) {
         case ConditionKind::lane_occupied: {
             const auto* lane = param(n, "lane");
             const int band = lane == nullptr || lane->choice == 1 ? 0 : lane->choice == 0 ? 1 : -1;
-            const Seen* s = nearest(band, 1);
+            const double objects = num(n, "objects");
+            const Seen* s = nearest(band, 1, std::isnan(objects) || objects != 0);
             if (s == nullptr) return false;
             const double gap = s->f.s - self.s - 0.5 * (s->length + a_.v->length);
             const double tg = num(n, "time_gap");

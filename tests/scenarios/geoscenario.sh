@@ -5,11 +5,9 @@
 #   2. a second run is byte-identical (trajectories, violations);
 #   3. `sdv convert` writes a .sdv that lints without a diagnostic and runs to byte-identical
 #      trajectories.csv and violations.json.
-# Usage: geoscenario.sh SDV DATA_DIR NAME [known-gap]
-# With `known-gap` the outcome is expected to DIFFER from the reference's (a gap documented in
-# docs/geoscenario.md); the test fails once it matches, so that the mark is removed.
+# Usage: geoscenario.sh SDV DATA_DIR NAME
 set -u
-sdv=$1 data=$2 name=$3 gap=${4:-}
+sdv=$1 data=$2 name=$3
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 scen=$data/scenarios/$name.gs.osm
@@ -17,14 +15,7 @@ expected=$data/expected/$name.gs.osm/violations.json
 fail=0
 "$sdv" run "$scen" --btree-path "$data/btrees/sdv" -o "$tmp/a" --gss-outputs > "$tmp/a.log" 2>&1
 same=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1])) == json.load(open(sys.argv[2])))" "$tmp/a/violations.json" "$expected")
-if [ "$gap" = known-gap ]; then
-    if [ "$same" = True ]; then
-        echo "FAIL: $name now matches the reference; remove its known-gap mark (tests/scenarios/CMakeLists.txt, docs/geoscenario.md)"
-        fail=1
-    else
-        echo "known gap: $name differs from the reference: $(tr -d ' \n' < "$tmp/a/violations.json") vs $(tr -d ' \n' < "$expected")"
-    fi
-elif [ "$same" != True ]; then
+if [ "$same" != True ]; then
     echo "FAIL: violations differ from the reference's"
     echo "  sdv:       $(tr -d ' \n' < "$tmp/a/violations.json")"
     echo "  reference: $(tr -d ' \n' < "$expected")"
@@ -32,6 +23,17 @@ elif [ "$same" != True ]; then
     fail=1
 else
     echo "outcome matches the reference: $(tr -d ' \n' < "$expected")"
+fi
+if [ "$name" = trafficlight_red ]; then
+    # The light of this scenario is red from 2.5 s to 12.5 s: the SDV waits at it, then goes.
+    python3 - "$tmp/a/trajectories.csv" <<'PY' || fail=1
+import csv, sys
+rows = {round(float(r["time"]), 2): r for r in csv.DictReader(open(sys.argv[1])) if r["vehicle"] == "v1"}
+still = all(abs(float(rows[t]["speed"])) < 0.05 for t in (10.0, 12.0))
+going = float(rows[16.0]["speed"]) > 3
+print(("ok" if still and going else "FAIL") + f": red light respected: speed {rows[10.0]['speed']} at 10 s, {rows[12.0]['speed']} at 12 s, {rows[16.0]['speed']} at 16 s")
+sys.exit(0 if still and going else 1)
+PY
 fi
 for f in trajectory_v1.csv; do
     [ -f "$tmp/a/$f" ] || { echo "FAIL: no $f"; fail=1; }
