@@ -177,9 +177,10 @@ std::string view_report(const std::string& run_dir, std::string& error) {
     // Decisions, compacted for large runs (the viewer expands them on demand): tree nodes as
     // [path index, status index] into `node_paths` / `node_statuses`, candidate paths as one
     // flat array [status index, x0, y0, ..., x5, y5, status index, ...] into `path_statuses`
-    // with decimetre coordinates.
+    // with decimetre coordinates, `rejected` / `cost` / `start` as arrays in key-table order.
     std::vector<std::string> node_paths, node_statuses, path_statuses;
     std::map<std::string, int> node_idx, status_idx, path_status_idx;
+    std::map<std::string, std::vector<std::string>> keyed;
     if (read(dir / "decisions.jsonl", decisions_text)) {
         data += "[";
         std::istringstream dl(decisions_text);
@@ -202,6 +203,21 @@ std::string view_report(const std::string& run_dir, std::string& error) {
                 }
                 d["nodes"] = std::move(packed);
             }
+            // The small fixed-key objects become arrays in the order of `<field>_keys`.
+            for (const char* field : {"rejected", "cost", "start"}) {
+                if (!d.contains(field) || !d[field].is_object()) continue;
+                auto& keys = keyed[field];
+                if (keys.empty()) {
+                    for (const auto& [k, v] : d[field].items()) keys.push_back(k);
+                }
+                bool same = d[field].size() == keys.size();
+                Json values = Json::array();
+                for (const auto& k : keys) {
+                    same = same && d[field].contains(k);
+                    if (same) values.push_back(d[field][k]);
+                }
+                if (same) d[field] = std::move(values);
+            }
             if (d.contains("paths") && d["paths"].is_array()) {
                 Json flat = Json::array();
                 for (const auto& p : d["paths"]) {
@@ -220,6 +236,7 @@ std::string view_report(const std::string& run_dir, std::string& error) {
     }
     data += ",\"node_paths\":" + Json(node_paths).dump() + ",\"node_statuses\":" + Json(node_statuses).dump() +
             ",\"path_statuses\":" + Json(path_statuses).dump();
+    for (const char* field : {"rejected", "cost", "start"}) data += ",\"" + std::string(field) + "_keys\":" + Json(keyed[field]).dump();
     data += "}";
     // Inside <script>, "</script>" or "<!--" in a string would end or confuse the element: '<'
     // is written as its JSON escape, which JSON.parse reads back unchanged (outside strings
