@@ -85,6 +85,30 @@ struct Common {
     bool color = false;
 };
 
+// Writes `text` to `path`; on failure says so on stderr and returns false.
+bool write_file(const std::string& path, std::string_view text) {
+    std::ofstream o(path, std::ios::binary);
+    o << text;
+    if (!o) std::cerr << "sdv: error: cannot write '" << path << "'\n";
+    return static_cast<bool>(o);
+}
+
+// `sdv view` / `sdv plot`: a report built from a run directory (or the error building it), to
+// `out` ('-': stdout); `announce` prints where it went.
+int emit_report(const std::string& text, const std::string& error, const std::string& out, bool announce) {
+    if (!error.empty()) {
+        std::cerr << "sdv: error: " << error << "\n";
+        return kFailure;
+    }
+    if (out == "-") {
+        std::cout << text;
+        return kOk;
+    }
+    if (!write_file(out, text)) return kFailure;
+    if (announce) std::cout << "wrote " << out << "\n";
+    return kOk;
+}
+
 // GeoScenario inputs (.btree, .gs.osm) converted to .sdv text; nullopt after errors.
 std::optional<std::string> convert_input(const std::string& file, const Common& c, const std::string& out_dir,
                                          diag::SourceManager& sm, diag::DiagnosticEngine& diags) {
@@ -201,12 +225,7 @@ int cmd_compile(const std::string& file, const std::string& out, const std::stri
         std::cout << text;
         return kOk;
     }
-    std::ofstream o(out, std::ios::binary);
-    o << text;
-    if (!o) {
-        std::cerr << "sdv: error: cannot write '" << out << "'\n";
-        return kFailure;
-    }
+    if (!write_file(out, text)) return kFailure;
     std::cout << summary(*result.program, ir::program_hash(*result.program)) << "wrote " << out
               << "\n";
     return kOk;
@@ -311,12 +330,11 @@ int cmd_run(const RunArgs& args, const Common& c, const WarningFlags& w) {
         std::string error;
         const std::string html = io::view_report(dir, error);
         const std::string path = (std::filesystem::path(dir) / "report.html").string();
-        std::ofstream o(path, std::ios::binary);
-        o << html;
-        if (!error.empty() || !o) {
-            std::cerr << "sdv: error: " << (error.empty() ? "cannot write '" + path + "'" : error) << "\n";
+        if (!error.empty()) {
+            std::cerr << "sdv: error: " << error << "\n";
             return kFailure;
         }
+        if (!write_file(path, html)) return kFailure;
         std::cout << "report in " << path << "\n";
     }
     return r.passed() ? kOk : kFailure;
@@ -351,12 +369,7 @@ int cmd_fmt(const std::vector<std::string>& files, bool check, bool to_stdout, c
             if (check) {
                 std::cerr << f << ": not formatted (run sdv fmt " << f << ")\n";
             } else {
-                std::ofstream o(f, std::ios::binary);
-                o << *formatted;
-                if (!o) {
-                    std::cerr << "sdv: error: cannot write '" << f << "'\n";
-                    failed = true;
-                }
+                if (!write_file(f, *formatted)) failed = true;
             }
         }
     }
@@ -464,12 +477,7 @@ int cmd_convert(const std::string& file, const std::string& out, const Common& c
         std::cout << *text;
         return kOk;
     }
-    std::ofstream o(out, std::ios::binary);
-    o << *text;
-    if (!o) {
-        std::cerr << "sdv: error: cannot write '" << out << "'\n";
-        return kFailure;
-    }
+    if (!write_file(out, *text)) return kFailure;
     std::cout << "wrote " << out << "\n";
     return kOk;
 }
@@ -616,23 +624,8 @@ int run(int argc, char** argv) {
     if (view_cmd->parsed()) {
         std::string error;
         const std::string html = io::view_report(view_dir, error);
-        if (!error.empty()) {
-            std::cerr << "sdv: error: " << error << "\n";
-            return kFailure;
-        }
-        if (view_out == "-") {
-            std::cout << html;
-            return kOk;
-        }
-        const std::string path = view_out.empty() ? (std::filesystem::path(view_dir) / "report.html").string() : view_out;
-        std::ofstream o(path, std::ios::binary);
-        o << html;
-        if (!o) {
-            std::cerr << "sdv: error: cannot write '" << path << "'\n";
-            return kFailure;
-        }
-        std::cout << "wrote " << path << "\n";
-        return kOk;
+        const std::string out = view_out.empty() ? (std::filesystem::path(view_dir) / "report.html").string() : view_out;
+        return emit_report(html, error, out, true);
     }
     if (fmt->parsed()) return cmd_fmt(fmt_files, fmt_check, fmt_stdout, common);
     if (diff_cmd->parsed()) return cmd_diff(diff_a, diff_b, diff_runs, common);
@@ -640,21 +633,7 @@ int run(int argc, char** argv) {
     if (plot_cmd->parsed()) {
         std::string error;
         const std::string svg = io::plot_run(plot_dir, error);
-        if (!error.empty()) {
-            std::cerr << "sdv: error: " << error << "\n";
-            return kFailure;
-        }
-        if (plot_out == "-") {
-            std::cout << svg;
-        } else {
-            std::ofstream o(plot_out, std::ios::binary);
-            o << svg;
-            if (!o) {
-                std::cerr << "sdv: error: cannot write '" << plot_out << "'\n";
-                return kFailure;
-            }
-        }
-        return kOk;
+        return emit_report(svg, error, plot_out, false);
     }
     if (run_cmd->parsed()) {
         if (seed_opt->count() > 0) run_args.seed = seed_value;

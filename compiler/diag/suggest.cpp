@@ -39,4 +39,14 @@ std::optional<std::string> closest_match(std::string_view word,
     return best;
 }
 
+std::string alternatives(std::span<const std::string> names) {
+    if (names.empty() || names.size() > 8) return "";
+    std::string out;
+    for (size_t i = 0; i < names.size(); ++i) {
+        if (i) out += (i + 1 == names.size()) ? " or " : ", ";
+        out += names[i];
+    }
+    return out;
+}
+
 }  // namespace sdv::diag

@@ -16,4 +16,8 @@ size_t edit_distance(std::string_view a, std::string_view b);
 std::optional<std::string> closest_match(std::string_view word,
                                          std::span<const std::string> candidates);
 
+// "a, b or c" for the alternatives of an "expected ..." note; "" when there are none or too many
+// (more than 8) to be helpful.
+std::string alternatives(std::span<const std::string> names);
+
 }  // namespace sdv::diag

@@ -2,6 +2,7 @@
 // owned AST. Positions are mapped from ANTLR's code points to byte offsets.
 #include "compiler/gss/btree.h"
 
+#include "compiler/diag/suggest.h"
 #include "compiler/syntax/parser.h"
 #include "compiler/syntax/utf8.h"
 
@@ -222,13 +223,7 @@ private:
             else if (t == BtreeParser::DEDENT) names.emplace_back("the end of the block");
             else if (auto lit = vocab.getLiteralName(static_cast<size_t>(t)); !lit.empty()) names.push_back(lit);
         }
-        if (names.empty() || names.size() > 8) return "";
-        std::string out;
-        for (size_t i = 0; i < names.size(); ++i) {
-            if (i) out += (i + 1 == names.size()) ? " or " : ", ";
-            out += names[i];
-        }
-        return out;
+        return diag::alternatives(names);
     }
 
     const Positions& pos_;

@@ -118,13 +118,7 @@ private:
             }
         }
         if (name_like) names.insert(names.begin(), "a name");
-        if (names.empty() || names.size() > 8) return "";
-        std::string out;
-        for (size_t i = 0; i < names.size(); ++i) {
-            if (i) out += (i + 1 == names.size()) ? " or " : ", ";
-            out += names[i];
-        }
-        return out;
+        return diag::alternatives(names);
     }
 
     diag::FileId file_;
