@@ -15,7 +15,7 @@
 #include "compiler/diag/diagnostic_engine.h"
 #include "compiler/diag/render.h"
 #include "compiler/gss/scenario.h"
-#include "compiler/ir/ir_io.h"
+#include "runtime/ir/ir_io.h"
 #include "compiler/sema/compile.h"
 #include "compiler/syntax/format.h"
 #include "compiler/syntax/parser.h"
@@ -303,7 +303,9 @@ int cmd_run(const RunArgs& args, const Common& c, const WarningFlags& w) {
             std::fflush(stderr);
         };
     }
-    sim::RunResult r = sim::simulate(*program, index, opts);
+    io::Recorder recorder;
+    sim::RunResult r = sim::simulate(*program, index, opts, &recorder);
+    const io::Recording rec = recorder.take();
     if (tty) std::fprintf(stderr, "\r\033[K");
     if (!r.error.empty()) {
         std::cerr << r.error << "\n";
@@ -315,12 +317,12 @@ int cmd_run(const RunArgs& args, const Common& c, const WarningFlags& w) {
     info.trace = args.trace;
     info.threads = args.threads;
     const std::string dir = args.out.empty() ? "out/" + sc.name : args.out;
-    if (auto e = io::write_outputs(dir, *program, index, r, info); !e.empty()) {
+    if (auto e = io::write_outputs(dir, *program, index, r, rec, info); !e.empty()) {
         std::cerr << "sdv: error: " << e << "\n";
         return kFailure;
     }
     if (args.gss_outputs) {
-        if (auto e = io::write_gss_outputs(dir, *program, index, r); !e.empty()) {
+        if (auto e = io::write_gss_outputs(dir, *program, index, r, rec.trajectories_csv); !e.empty()) {
             std::cerr << "sdv: error: " << e << "\n";
             return kFailure;
         }

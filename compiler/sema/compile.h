@@ -10,7 +10,7 @@
 #include "compiler/ast/ast.h"
 #include "compiler/diag/diagnostic_engine.h"
 #include "compiler/diag/source_manager.h"
-#include "compiler/ir/ir.h"
+#include "runtime/ir/ir.h"
 
 namespace sdv::compiler {
 

@@ -87,6 +87,12 @@ ParamDef in_group(ParamDef p, std::string group) {
     return p;
 }
 
+// A maneuver parameter and the configuration field it sets.
+ParamDef sets(ConfigField field, ParamDef p) {
+    p.field = field;
+    return p;
+}
+
 constexpr double kMaxSpeed = 100.0;     // m/s: 360 km/h, beyond any road vehicle
 constexpr double kMaxDuration = 60.0;   // s: a single maneuver plan
 constexpr double kMaxDistance = 10000;  // m
@@ -96,58 +102,62 @@ constexpr double kMaxJerk = 100.0;      // m/s³
 // The parameters every maneuver shares (SPEC §3.6 "Common parameters").
 std::vector<ParamDef> common_params(double max_long_acc) {
     std::vector<ParamDef> ps = {
-        in_group(qty("max_long_jerk", Dim::jerk, DefaultValue{10}, 0, kMaxJerk,
+        sets(ConfigField::max_long_jerk, in_group(qty("max_long_jerk", Dim::jerk, DefaultValue{10}, 0, kMaxJerk,
                      "longitudinal jerk limit of a feasible trajectory", true),
-                 "feasibility"),
-        in_group(qty("max_lat_jerk", Dim::jerk, DefaultValue{10}, 0, kMaxJerk,
+                 "feasibility")),
+        sets(ConfigField::max_lat_jerk, in_group(qty("max_lat_jerk", Dim::jerk, DefaultValue{10}, 0, kMaxJerk,
                      "lateral jerk limit of a feasible trajectory", true),
-                 "feasibility"),
-        in_group(qty("max_long_acc", Dim::accel, DefaultValue{max_long_acc}, 0, kMaxAcc,
+                 "feasibility")),
+        sets(ConfigField::max_long_acc, in_group(qty("max_long_acc", Dim::accel, DefaultValue{max_long_acc}, 0, kMaxAcc,
                      "longitudinal acceleration limit (magnitude)", true),
-                 "feasibility"),
-        in_group(qty("max_lat_acc", Dim::accel, DefaultValue{4.9}, 0, kMaxAcc,
+                 "feasibility")),
+        sets(ConfigField::max_lat_acc, in_group(qty("max_lat_acc", Dim::accel, DefaultValue{4.9}, 0, kMaxAcc,
                      "lateral acceleration limit (magnitude)", true),
-                 "feasibility"),
-        in_group(boolean("collision", true, "reject candidates that collide with a perceived "
+                 "feasibility")),
+        sets(ConfigField::collision, in_group(boolean("collision", true, "reject candidates that collide with a perceived "
                                             "vehicle or obstacle"),
-                 "feasibility"),
-        in_group(boolean("off_lane", true, "reject candidates that leave the current lane"),
-                 "feasibility"),
-        in_group(boolean("direction", true, "reject candidates whose s decreases"),
-                 "feasibility"),
+                 "feasibility")),
+        sets(ConfigField::off_lane, in_group(boolean("off_lane", true, "reject candidates that leave the current lane"),
+                 "feasibility")),
+        sets(ConfigField::direction, in_group(boolean("direction", true, "reject candidates whose s decreases"),
+                 "feasibility")),
     };
-    const char* weights[][2] = {
-        {"w_time", "weight of the deviation from the target duration"},
-        {"w_efficiency", "weight of the mean-speed deviation from the target speed"},
-        {"w_lane_offset", "weight of the offset from the lane centre"},
-        {"w_long_jerk", "weight of the total longitudinal jerk"},
-        {"w_lat_jerk", "weight of the total lateral jerk"},
-        {"w_long_acc", "weight of the total longitudinal acceleration"},
-        {"w_lat_acc", "weight of the total lateral acceleration"},
+    const struct {
+        ConfigField field;
+        const char* name;
+        const char* doc;
+    } weights[] = {
+        {ConfigField::w_time, "w_time", "weight of the deviation from the target duration"},
+        {ConfigField::w_efficiency, "w_efficiency", "weight of the mean-speed deviation from the target speed"},
+        {ConfigField::w_lane_offset, "w_lane_offset", "weight of the offset from the lane centre"},
+        {ConfigField::w_long_jerk, "w_long_jerk", "weight of the total longitudinal jerk"},
+        {ConfigField::w_lat_jerk, "w_lat_jerk", "weight of the total lateral jerk"},
+        {ConfigField::w_long_acc, "w_long_acc", "weight of the total longitudinal acceleration"},
+        {ConfigField::w_lat_acc, "w_lat_acc", "weight of the total lateral acceleration"},
     };
-    for (auto& w : weights) {
-        ps.push_back(in_group(qty(w[0], Dim::none, DefaultValue{1}, 0, 1e6, w[1]), "cost"));
+    for (const auto& w : weights) {
+        ps.push_back(sets(w.field, in_group(qty(w.name, Dim::none, DefaultValue{1}, 0, 1e6, w.doc), "cost")));
     }
-    ps.push_back(in_group(
+    ps.push_back(sets(ConfigField::w_proximity, in_group(
         qty("w_proximity", Dim::none, DefaultValue{10}, 0, 1e6, "weight of the proximity to "
                                                                  "other vehicles and obstacles"),
-        "cost"));
-    ps.push_back(in_group(qty("expected_offset", Dim::length, DefaultValue{0.5}, 0, 100,
+        "cost")));
+    ps.push_back(sets(ConfigField::expected_offset, in_group(qty("expected_offset", Dim::length, DefaultValue{0.5}, 0, 100,
                               "normaliser of the lane-offset cost", true),
-                          "cost"));
-    ps.push_back(in_group(qty("expected_acc", Dim::accel, DefaultValue{1}, 0, kMaxAcc,
+                          "cost")));
+    ps.push_back(sets(ConfigField::expected_acc, in_group(qty("expected_acc", Dim::accel, DefaultValue{1}, 0, kMaxAcc,
                               "normaliser of the acceleration costs", true),
-                          "cost"));
-    ps.push_back(in_group(qty("expected_jerk", Dim::jerk, DefaultValue{2}, 0, kMaxJerk,
+                          "cost")));
+    ps.push_back(sets(ConfigField::expected_jerk, in_group(qty("expected_jerk", Dim::jerk, DefaultValue{2}, 0, kMaxJerk,
                               "normaliser of the jerk costs", true),
-                          "cost"));
-    ps.push_back(in_group(sampled("lat_offset", Dim::length, 0, 0, 1, -10, 10,
+                          "cost")));
+    ps.push_back(sets(ConfigField::lat_offset, in_group(sampled("lat_offset", Dim::length, 0, 0, 1, -10, 10,
                                   "lateral target: offset from the target lane's centre (left "
                                   "positive)"),
-                          "lateral"));
-    ps.push_back(in_group(integer("eval_points", 10, 2, 1000,
+                          "lateral")));
+    ps.push_back(sets(ConfigField::eval_points, in_group(integer("eval_points", 10, 2, 1000,
                                   "points per trajectory at which feasibility is checked"),
-                          "lateral"));
+                          "lateral")));
     return ps;
 }
 
@@ -166,60 +176,60 @@ ManeuverDef make_maneuver(std::string name, ManeuverKind kind, std::string doc, 
 std::vector<ManeuverDef> build_maneuvers() {
     std::vector<ManeuverDef> ms;
     {
-        auto speed = sampled("speed", Dim::speed, 14, 10, 3, 0, kMaxSpeed, "target speed");
+        auto speed = sets(ConfigField::speed, sampled("speed", Dim::speed, 14, 10, 3, 0, kMaxSpeed, "target speed"));
         ms.push_back(make_maneuver(
             "keep_velocity", ManeuverKind::keep_velocity,
             "drive in the lane at a target speed (quartic in s)", "SUCCESS",
             {speed,
-             sampled("duration", Dim::time, 3, 20, 6, 0, kMaxDuration,
-                     "time to reach the target speed", true),
-             qty("max_speed_change", Dim::speed, DefaultValue{8}, 0, kMaxSpeed,
-                 "largest speed change planned in one cycle", true)}));
+             sets(ConfigField::duration, sampled("duration", Dim::time, 3, 20, 6, 0, kMaxDuration,
+                     "time to reach the target speed", true)),
+             sets(ConfigField::max_speed_change, qty("max_speed_change", Dim::speed, DefaultValue{8}, 0, kMaxSpeed,
+                 "largest speed change planned in one cycle", true))}));
     }
     ms.push_back(make_maneuver(
         "follow", ManeuverKind::follow,
         "follow a leader at a time gap; stop behind it when it is (nearly) stopped (quintic)",
         "SUCCESS; FAILURE without a leader",
-        {vehicle("leader", false, "the vehicle to follow (default: nearest ahead in the lane)"),
-         sampled("duration", Dim::time, 4, 50, 10, 0, kMaxDuration, "time to settle behind the "
-                                                                     "leader", true),
-         qty("time_gap", Dim::time, DefaultValue{3}, 0, 60, "time headway kept to the leader"),
-         qty("stop_distance", Dim::length, DefaultValue{3}, 0, 100,
-             "bumper gap kept to a stopped leader")}));
+        {sets(ConfigField::leader, vehicle("leader", false, "the vehicle to follow (default: nearest ahead in the lane)")),
+         sets(ConfigField::duration, sampled("duration", Dim::time, 4, 50, 10, 0, kMaxDuration, "time to settle behind the "
+                                                                     "leader", true)),
+         sets(ConfigField::time_gap, qty("time_gap", Dim::time, DefaultValue{3}, 0, 60, "time headway kept to the leader")),
+         sets(ConfigField::stop_distance, qty("stop_distance", Dim::length, DefaultValue{3}, 0, 100,
+             "bumper gap kept to a stopped leader"))}));
     ms.push_back(make_maneuver(
         "lane_change", ManeuverKind::lane_change,
         "change to the neighbour lane (or swerve inside the lane with lat_offset) keeping the "
         "current speed (quartic)",
         "RUNNING until the footprint is in the target lane, then SUCCESS",
-        {choice("lane", {"left", "right", "route", "current"}, 0,
-                "target lane: left, right, the lane the route needs, or current (swerve)"),
-         sampled("duration", Dim::time, 4.2, 10, 6, 0, kMaxDuration, "lane-change duration",
-                 true)}));
+        {sets(ConfigField::lane, choice("lane", {"left", "right", "route", "current"}, 0,
+                "target lane: left, right, the lane the route needs, or current (swerve)")),
+         sets(ConfigField::duration, sampled("duration", Dim::time, 4.2, 10, 6, 0, kMaxDuration, "lane-change duration",
+                 true))}));
     ms.push_back(make_maneuver(
         "cut_in", ManeuverKind::cut_in,
         "change lane into a gap relative to a target vehicle (quintic)",
         "RUNNING until the footprint is in the target lane, then SUCCESS; FAILURE without target",
-        {vehicle("target", true, "the vehicle to cut in front of"),
-         choice("lane", {"left", "right", "target"}, 2,
-                "target lane: left, right, or the target vehicle's lane"),
-         sampled("duration", Dim::time, 4, 10, 6, 0, kMaxDuration, "cut-in duration", true),
-         sampled("delta_s", Dim::length, 10, 10, 5, -200, 200,
-                 "gap to the target at the end, beyond 2 own lengths (negative: behind it)"),
-         qty("delta_v", Dim::speed, DefaultValue{5}, -kMaxSpeed, kMaxSpeed,
-             "speed relative to the target at the end"),
-         qty("delta_a", Dim::accel, DefaultValue{0}, -kMaxAcc, kMaxAcc,
-             "acceleration relative to the target at the end")}));
+        {sets(ConfigField::target, vehicle("target", true, "the vehicle to cut in front of")),
+         sets(ConfigField::lane, choice("lane", {"left", "right", "target"}, 2,
+                "target lane: left, right, or the target vehicle's lane")),
+         sets(ConfigField::duration, sampled("duration", Dim::time, 4, 10, 6, 0, kMaxDuration, "cut-in duration", true)),
+         sets(ConfigField::delta_s, sampled("delta_s", Dim::length, 10, 10, 5, -200, 200,
+                 "gap to the target at the end, beyond 2 own lengths (negative: behind it)")),
+         sets(ConfigField::delta_v, qty("delta_v", Dim::speed, DefaultValue{5}, -kMaxSpeed, kMaxSpeed,
+             "speed relative to the target at the end")),
+         sets(ConfigField::delta_a, qty("delta_a", Dim::accel, DefaultValue{0}, -kMaxAcc, kMaxAcc,
+             "acceleration relative to the target at the end"))}));
     {
         auto m = make_maneuver(
             "stop", ManeuverKind::stop,
             "stop at the goal, the next stop line, a position, or now (quintic)", "SUCCESS",
-            {choice("at", {"goal", "stop_line", "position", "now"}, 3, "where to stop"),
-             opt_qty("position", Dim::length, 0, kMaxDistance,
-                     "s along the lane to stop at (with at = position)"),
-             qty("distance", Dim::length, DefaultValue{0}, 0, 100,
-                 "stop this far before the target"),
-             sampled("duration_factor", Dim::none, 1, 40, 6, 0, 10,
-                     "duration as a factor of 2·Δs/v", true)},
+            {sets(ConfigField::stop_at, choice("at", {"goal", "stop_line", "position", "now"}, 3, "where to stop")),
+             sets(ConfigField::stop_position, opt_qty("position", Dim::length, 0, kMaxDistance,
+                     "s along the lane to stop at (with at = position)")),
+             sets(ConfigField::stop_before, qty("distance", Dim::length, DefaultValue{0}, 0, 100,
+                 "stop this far before the target")),
+             sets(ConfigField::duration_factor, sampled("duration_factor", Dim::none, 1, 40, 6, 0, 10,
+                     "duration as a factor of 2·Δs/v", true))},
             30);
         ms.push_back(std::move(m));
     }
@@ -227,9 +237,9 @@ std::vector<ManeuverDef> build_maneuvers() {
         auto m = make_maneuver(
             "reverse", ManeuverKind::reverse, "drive backwards at a target speed (quartic)",
             "SUCCESS",
-            {sampled("speed", Dim::speed, 5, 10, 6, 0, 30, "reverse speed (magnitude)"),
-             sampled("duration", Dim::time, 3, 20, 3, 0, kMaxDuration,
-                     "time to reach the speed", true)});
+            {sets(ConfigField::speed, sampled("speed", Dim::speed, 5, 10, 6, 0, 30, "reverse speed (magnitude)")),
+             sets(ConfigField::duration, sampled("duration", Dim::time, 3, 20, 3, 0, kMaxDuration,
+                     "time to reach the speed", true))});
         for (auto& p : m.params) {
             if (p.name == "direction") p.def->value = 0.0;  // backwards is the point
         }

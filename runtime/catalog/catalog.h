@@ -37,6 +37,26 @@ struct DefaultValue {
     int samples = 1;
 };
 
+// The planner configuration field a maneuver parameter sets. runtime/planner binds each one
+// (planner::set_field, an exhaustive switch); a maneuver parameter with `none` is a defect that
+// tests/unit/planner catches. Vehicle parameters (`leader`, `target`) are resolved by the
+// runtime into the plan request instead of the configuration.
+enum class ConfigField {
+    none,
+    // common: feasibility
+    max_long_jerk, max_lat_jerk, max_long_acc, max_lat_acc, collision, off_lane, direction,
+    // common: cost
+    w_time, w_efficiency, w_lane_offset, w_long_jerk, w_lat_jerk, w_long_acc, w_lat_acc,
+    w_proximity, expected_offset, expected_acc, expected_jerk,
+    // common: lateral
+    lat_offset, eval_points,
+    // kind-specific
+    speed, duration, max_speed_change, time_gap, stop_distance, lane, delta_s, delta_v, delta_a,
+    stop_at, stop_position, stop_before, duration_factor,
+    // resolved by the runtime into the plan request
+    leader, target,
+};
+
 struct ParamDef {
     std::string name;
     ParamType type = ParamType::quantity;
@@ -50,6 +70,7 @@ struct ParamDef {
     std::vector<std::string> choices;
     std::string doc;
     std::string group;  // "" for kind-specific parameters; "feasibility", "cost", "lateral"
+    ConfigField field = ConfigField::none;  // maneuver parameters: what it configures
 
     bool required() const { return !def.has_value() && !optional; }
 };

@@ -89,7 +89,8 @@ std::string violations_json(const ir::Program& p, int scenario, const sim::RunRe
     return j.dump(4) + "\n";
 }
 
-std::string write_gss_outputs(const std::string& dir, const ir::Program& p, int scenario, const sim::RunResult& r) {
+std::string write_gss_outputs(const std::string& dir, const ir::Program& p, int scenario, const sim::RunResult& r,
+                              const std::string& trajectories_csv) {
     namespace fs = std::filesystem;
     const ir::Scenario& sc = p.scenarios.at(static_cast<size_t>(scenario));
     {
@@ -105,7 +106,7 @@ std::string write_gss_outputs(const std::string& dir, const ir::Program& p, int 
         long tick;
     };
     std::vector<std::vector<Row>> rows(sc.vehicles.size());
-    std::istringstream in(r.trajectories_csv);
+    std::istringstream in(trajectories_csv);
     std::string line;
     std::getline(in, line);  // header
     while (std::getline(in, line)) {

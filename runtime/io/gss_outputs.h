@@ -10,13 +10,15 @@
 
 #include <string>
 
-#include "compiler/ir/ir.h"
+#include "runtime/ir/ir.h"
 #include "runtime/sim/simulation.h"
 
 namespace sdv::io {
 
 std::string violations_json(const ir::Program& p, int scenario, const sim::RunResult& r);
 // Returns an error message, or "" on success.
-std::string write_gss_outputs(const std::string& dir, const ir::Program& p, int scenario, const sim::RunResult& r);
+// `trajectories_csv` is the run's trajectories.csv (io::Recording).
+std::string write_gss_outputs(const std::string& dir, const ir::Program& p, int scenario, const sim::RunResult& r,
+                              const std::string& trajectories_csv);
 
 }  // namespace sdv::io

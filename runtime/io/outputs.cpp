@@ -110,7 +110,7 @@ std::string timing_json(const sim::RunResult& r, int threads) {
 }
 
 std::string write_outputs(const std::string& dir, const ir::Program& p, int scenario, const sim::RunResult& r,
-                          const RunInfo& info) {
+                          const Recording& rec, const RunInfo& info) {
     namespace fs = std::filesystem;
     std::error_code ec;
     fs::create_directories(dir, ec);
@@ -120,12 +120,12 @@ std::string write_outputs(const std::string& dir, const ir::Program& p, int scen
         o << text;
         return o ? "" : "cannot write '" + (fs::path(dir) / name).string() + "'";
     };
-    if (auto e = write("trajectories.csv", r.trajectories_csv); !e.empty()) return e;
+    if (auto e = write("trajectories.csv", rec.trajectories_csv); !e.empty()) return e;
     if (auto e = write("summary.json", summary_json(p, scenario, r, info)); !e.empty()) return e;
     if (auto e = write("timing.json", timing_json(r, info.threads)); !e.empty()) return e;
-    if (auto e = write("road.json", r.road_json); !e.empty()) return e;
+    if (auto e = write("road.json", rec.road_json); !e.empty()) return e;
     if (info.trace) {
-        if (auto e = write("decisions.jsonl", r.decisions_jsonl); !e.empty()) return e;
+        if (auto e = write("decisions.jsonl", rec.decisions_jsonl); !e.empty()) return e;
     }
     return "";
 }

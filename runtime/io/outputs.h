@@ -5,7 +5,8 @@
 
 #include <string>
 
-#include "compiler/ir/ir.h"
+#include "runtime/io/recorder.h"
+#include "runtime/ir/ir.h"
 #include "runtime/sim/simulation.h"
 
 namespace sdv::io {
@@ -21,7 +22,7 @@ std::string summary_json(const ir::Program& p, int scenario, const sim::RunResul
 std::string timing_json(const sim::RunResult& r, int threads);
 // Returns an error message, or "" on success.
 std::string write_outputs(const std::string& dir, const ir::Program& p, int scenario, const sim::RunResult& r,
-                          const RunInfo& info);
+                          const Recording& rec, const RunInfo& info);
 // The short report printed on stdout.
 std::string report(const ir::Program& p, int scenario, const sim::RunResult& r);
 

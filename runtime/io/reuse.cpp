@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "runtime/sim/simulation.h"
+#include "runtime/sim/world.h"
 
 namespace sdv::io {
 namespace {
@@ -35,26 +36,25 @@ ReuseReport reuse(const std::vector<ReuseInput>& inputs) {
         }
         sim::RunOptions opt;
         opt.trace = true;
-        const sim::RunResult r = sim::simulate(p, inputs[i].scenario, opt);
+        // Every node a planning cycle visited counts as executed.
+        struct Visited : sim::RunObserver {
+            const std::map<std::string, NodeId>& by_path;
+            std::set<NodeId>& executed;
+            Visited(const std::map<std::string, NodeId>& b, std::set<NodeId>& e) : by_path(b), executed(e) {}
+            void plan(const sim::World& w, const sim::Agent& a) override {
+                (void)w;
+                if (!a.driver || !a.driver->trace) return;
+                const auto& nodes = a.driver->tree->instance().nodes;
+                for (const bt::Visit& v : a.driver->trace->visits) {
+                    auto it = by_path.find(a.v->name + "|" + nodes[static_cast<size_t>(v.node)].path);
+                    if (it != by_path.end()) executed.insert(it->second);
+                }
+            }
+        } visited(by_path, executed[i]);
+        const sim::RunResult r = sim::simulate(p, inputs[i].scenario, opt, &visited);
         if (!r.error.empty()) {
             report.error = inputs[i].label + ": " + r.error;
             return report;
-        }
-        // The trace lines list {"node":"<path>",...} per visited node.
-        std::istringstream lines(r.decisions_jsonl);
-        std::string line;
-        while (std::getline(lines, line)) {
-            const auto vpos = line.find("\"vehicle\":\"");
-            if (vpos == std::string::npos) continue;
-            const auto vend = line.find('"', vpos + 11);
-            const std::string vehicle = line.substr(vpos + 11, vend - vpos - 11);
-            size_t pos = 0;
-            while ((pos = line.find("{\"node\":\"", pos)) != std::string::npos) {
-                const auto end = line.find('"', pos + 9);
-                auto it = by_path.find(vehicle + "|" + line.substr(pos + 9, end - pos - 9));
-                if (it != by_path.end()) executed[i].insert(it->second);
-                pos = end;
-            }
         }
     }
     auto count_in = [&](const std::vector<std::set<NodeId>>& sets, const NodeId& n) {

@@ -1,5 +1,7 @@
 #include "runtime/planner/maneuver.h"
 
+#include <cstdio>
+
 namespace sdv::planner {
 namespace {
 
@@ -10,67 +12,124 @@ Sampled from_default(const catalog::ParamDef& p) {
 
 }  // namespace
 
+bool set_field(ManeuverConfig& c, catalog::ConfigField field, const Sampled& number, int choice) {
+    using F = catalog::ConfigField;
+    CommonConfig& k = c.common;
+    const double v = number.value;
+    switch (field) {
+        case F::max_long_jerk: k.max_long_jerk = v; return true;
+        case F::max_lat_jerk: k.max_lat_jerk = v; return true;
+        case F::max_long_acc: k.max_long_acc = v; return true;
+        case F::max_lat_acc: k.max_lat_acc = v; return true;
+        case F::collision: k.collision = v != 0; return true;
+        case F::off_lane: k.off_lane = v != 0; return true;
+        case F::direction: k.direction = v != 0; return true;
+        case F::w_time: k.w_time = v; return true;
+        case F::w_efficiency: k.w_efficiency = v; return true;
+        case F::w_lane_offset: k.w_lane_offset = v; return true;
+        case F::w_long_jerk: k.w_long_jerk = v; return true;
+        case F::w_lat_jerk: k.w_lat_jerk = v; return true;
+        case F::w_long_acc: k.w_long_acc = v; return true;
+        case F::w_lat_acc: k.w_lat_acc = v; return true;
+        case F::w_proximity: k.w_proximity = v; return true;
+        case F::expected_offset: k.expected_offset = v; return true;
+        case F::expected_acc: k.expected_acc = v; return true;
+        case F::expected_jerk: k.expected_jerk = v; return true;
+        case F::lat_offset: k.lat_offset = number; return true;
+        case F::eval_points: k.eval_points = static_cast<int>(v); return true;
+        case F::speed: c.speed = number; return true;
+        case F::duration: c.duration = number; return true;
+        case F::max_speed_change: c.max_speed_change = v; return true;
+        case F::time_gap: c.time_gap = v; return true;
+        case F::stop_distance: c.stop_distance = v; return true;
+        case F::lane: {
+            // The choice's word names the target (the choices differ between maneuvers).
+            const auto* p = catalog::maneuver(c.kind).find_param("lane");
+            if (p == nullptr || choice < 0 || static_cast<size_t>(choice) >= p->choices.size()) return false;
+            const std::string& w = p->choices[static_cast<size_t>(choice)];
+            c.lane = w == "left"    ? LaneTarget::left
+                     : w == "right" ? LaneTarget::right
+                     : w == "route" ? LaneTarget::route
+                     : w == "target" ? LaneTarget::target
+                                     : LaneTarget::current;
+            return true;
+        }
+        case F::delta_s: c.delta_s = number; return true;
+        case F::delta_v: c.delta_v = v; return true;
+        case F::delta_a: c.delta_a = v; return true;
+        case F::stop_at:
+            if (choice < 0 || choice > static_cast<int>(StopTarget::now)) return false;
+            c.stop_at = static_cast<StopTarget>(choice);
+            return true;
+        case F::stop_position: c.stop_position = v; return true;
+        case F::stop_before: c.stop_before = v; return true;
+        case F::duration_factor: c.duration_factor = number; return true;
+        case F::leader:
+        case F::target:
+        case F::none: return false;
+    }
+    return false;
+}
+
 ManeuverConfig default_config(ManeuverKind kind) {
     ManeuverConfig c;
     c.kind = kind;
-    const auto& def = catalog::maneuver(kind);
-    auto num = [&](const char* name) { return def.find_param(name)->def->value; };
-    auto smp = [&](const char* name) { return from_default(*def.find_param(name)); };
-    CommonConfig& k = c.common;
-    k.max_long_jerk = num("max_long_jerk");
-    k.max_lat_jerk = num("max_lat_jerk");
-    k.max_long_acc = num("max_long_acc");
-    k.max_lat_acc = num("max_lat_acc");
-    k.collision = num("collision") != 0;
-    k.off_lane = num("off_lane") != 0;
-    k.direction = num("direction") != 0;
-    k.w_time = num("w_time");
-    k.w_efficiency = num("w_efficiency");
-    k.w_lane_offset = num("w_lane_offset");
-    k.w_long_jerk = num("w_long_jerk");
-    k.w_lat_jerk = num("w_lat_jerk");
-    k.w_long_acc = num("w_long_acc");
-    k.w_lat_acc = num("w_lat_acc");
-    k.w_proximity = num("w_proximity");
-    k.expected_offset = num("expected_offset");
-    k.expected_acc = num("expected_acc");
-    k.expected_jerk = num("expected_jerk");
-    k.lat_offset = Sampled::single(num("lat_offset"));
-    k.eval_points = static_cast<int>(num("eval_points"));
-    switch (kind) {
-        case ManeuverKind::keep_velocity:
-            c.speed = smp("speed");
-            c.duration = smp("duration");
-            c.max_speed_change = num("max_speed_change");
-            break;
-        case ManeuverKind::follow:
-            c.duration = smp("duration");
-            c.time_gap = num("time_gap");
-            c.stop_distance = num("stop_distance");
-            break;
-        case ManeuverKind::lane_change:
-            c.duration = smp("duration");
-            c.lane = LaneTarget::left;
-            break;
-        case ManeuverKind::cut_in:
-            c.duration = smp("duration");
-            c.delta_s = Sampled::spread(num("delta_s"), def.find_param("delta_s")->def->spread_pct,
-                                        def.find_param("delta_s")->def->samples, false);
-            c.delta_v = num("delta_v");
-            c.delta_a = num("delta_a");
-            c.lane = LaneTarget::target;
-            break;
-        case ManeuverKind::stop:
-            c.duration_factor = smp("duration_factor");
-            c.stop_before = num("distance");
-            c.stop_at = StopTarget::now;
-            break;
-        case ManeuverKind::reverse:
-            c.speed = smp("speed");
-            c.duration = smp("duration");
-            break;
+    for (const catalog::ParamDef& p : catalog::maneuver(kind).params) {
+        if (!p.def) continue;
+        set_field(c, p.field, from_default(p), static_cast<int>(p.def->value));
     }
     return c;
+}
+
+std::string describe(const ManeuverConfig& c) {
+    std::string out;
+    auto num = [&](const char* name, double v) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%s=%.17g\n", name, v);
+        out += buf;
+    };
+    auto smp = [&](const char* name, const Sampled& s) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "%s=%.17g[%.17g,%.17g]x%d/%d/%.17g\n", name, s.value, s.lo, s.hi, s.samples,
+                      static_cast<int>(s.method), s.sigma);
+        out += buf;
+    };
+    const CommonConfig& k = c.common;
+    num("kind", static_cast<int>(c.kind));
+    num("max_long_jerk", k.max_long_jerk);
+    num("max_lat_jerk", k.max_lat_jerk);
+    num("max_long_acc", k.max_long_acc);
+    num("max_lat_acc", k.max_lat_acc);
+    num("collision", k.collision);
+    num("off_lane", k.off_lane);
+    num("direction", k.direction);
+    num("w_time", k.w_time);
+    num("w_efficiency", k.w_efficiency);
+    num("w_lane_offset", k.w_lane_offset);
+    num("w_long_jerk", k.w_long_jerk);
+    num("w_lat_jerk", k.w_lat_jerk);
+    num("w_long_acc", k.w_long_acc);
+    num("w_lat_acc", k.w_lat_acc);
+    num("w_proximity", k.w_proximity);
+    num("expected_offset", k.expected_offset);
+    num("expected_acc", k.expected_acc);
+    num("expected_jerk", k.expected_jerk);
+    smp("lat_offset", k.lat_offset);
+    num("eval_points", k.eval_points);
+    smp("speed", c.speed);
+    smp("duration", c.duration);
+    num("max_speed_change", c.max_speed_change);
+    num("time_gap", c.time_gap);
+    num("stop_distance", c.stop_distance);
+    num("lane", static_cast<int>(c.lane));
+    smp("delta_s", c.delta_s);
+    num("delta_v", c.delta_v);
+    num("delta_a", c.delta_a);
+    num("stop_at", static_cast<int>(c.stop_at));
+    if (c.stop_position) num("stop_position", *c.stop_position);
+    num("stop_before", c.stop_before);
+    smp("duration_factor", c.duration_factor);
+    return out;
 }
 
 int candidate_count(const ManeuverConfig& c) {

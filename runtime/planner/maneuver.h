@@ -3,6 +3,9 @@
 // `sdv catalog` and the planner can never disagree on a default.
 #pragma once
 
+#include <optional>
+#include <string>
+
 #include "runtime/catalog/catalog.h"
 #include "runtime/planner/sampling.h"
 
@@ -35,12 +38,23 @@ struct ManeuverConfig {
     Sampled delta_s = Sampled::single(10);      // cut_in
     double delta_v = 5, delta_a = 0;            // cut_in
     StopTarget stop_at = StopTarget::now;       // stop
-    double stop_position = 0, stop_before = 0;  // stop
+    std::optional<double> stop_position;        // stop (at = position)
+    double stop_before = 0;                     // stop
     Sampled duration_factor = Sampled::single(1);  // stop
 };
 
-// The catalog's defaults for a maneuver kind (SPEC §3.6).
+// The one binding of maneuver parameters: sets the field a catalog parameter names
+// (ParamDef::field) from its value (`number` for quantities, integers and booleans, `choice`
+// for choices, as an index into the parameter's choices). Returns false for fields that are
+// not part of the configuration (the vehicles `leader` and `target`, which the runtime
+// resolves into the plan request) and for `none`.
+bool set_field(ManeuverConfig& config, catalog::ConfigField field, const Sampled& number, int choice);
+
+// The catalog's defaults for a maneuver kind (SPEC §3.6), applied through set_field.
 ManeuverConfig default_config(ManeuverKind kind);
+
+// Every field of a configuration as text, one `name=value` per field (for traces and tests).
+std::string describe(const ManeuverConfig& config);
 
 // Candidates a configuration produces: the product of its sample counts.
 int candidate_count(const ManeuverConfig& config);

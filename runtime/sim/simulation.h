@@ -5,7 +5,8 @@
 // behavior tree, plans the selected maneuver and publishes the plan to start at t0 + latency.
 // All SDVs due at a tick read the same immutable snapshot, so their planning runs in parallel
 // threads; results are applied in vehicle order. Nothing reads the wall clock: a run is a pure
-// function of (IR, seed).
+// function of (IR, seed). The simulation writes no output itself: a RunObserver (runtime/io)
+// sees the world at the start, after every tick and after every plan, and writes what it needs.
 #pragma once
 
 #include <cmath>
@@ -16,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "compiler/ir/ir.h"
+#include "runtime/ir/ir.h"
 
 namespace sdv::sim {
 
@@ -71,17 +72,34 @@ struct RunResult {
     std::vector<PairMetrics> pairs;
     std::vector<VehicleMetrics> vehicles;
     std::vector<ExpectResult> expectations;
-    std::string trajectories_csv;
-    std::string road_json;  // the road geometry and light programs of the run (road.json)
-    std::string decisions_jsonl;
     Timing timing;
     bool passed() const;
 };
 
-class Simulation;
+struct World;
+struct Agent;
+struct PlanTrace;
 
-// Builds the world (roads, vehicles, trees) of one scenario and runs it. `files` are the IR's
-// source file names, used to locate runtime errors.
-RunResult simulate(const ir::Program& program, int scenario, const RunOptions& options);
+// What watches a run, called on the simulation's thread in a deterministic order: `start` once
+// the world is built, `tick` after every tick's ground truth, `plan` for every planning cycle in
+// vehicle order (its trace is set only with RunOptions::trace).
+class RunObserver {
+public:
+    virtual ~RunObserver() = default;
+    virtual void start(const World& world) { (void)world; }
+    virtual void tick(const World& world, int tick, double time) {
+        (void)world;
+        (void)tick;
+        (void)time;
+    }
+    virtual void plan(const World& world, const Agent& agent) {
+        (void)world;
+        (void)agent;
+    }
+};
+
+// Builds the world (roads, vehicles, trees) of one scenario and runs it, reporting to
+// `observer` when given.
+RunResult simulate(const ir::Program& program, int scenario, const RunOptions& options, RunObserver* observer = nullptr);
 
 }  // namespace sdv::sim

@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "compiler/diag/render.h"
-#include "compiler/ir/ir_io.h"
+#include "runtime/ir/ir_io.h"
 #include "compiler/sema/compile.h"
 
 using namespace sdv;

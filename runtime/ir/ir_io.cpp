@@ -2,7 +2,7 @@
 // as names, leaf parameters keyed by their catalog names, source locations as [file, line,
 // col]. The reader walks the same layout with a path for every message, so an error says
 // where the file is wrong ("program.instances[2].nodes[5].children[0]: index 99 out of range").
-#include "compiler/ir/ir_io.h"
+#include "runtime/ir/ir_io.h"
 
 #include <nlohmann/json.hpp>
 

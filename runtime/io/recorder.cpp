@@ -1,0 +1,114 @@
+#include "runtime/io/recorder.h"
+
+#include "runtime/catalog/catalog.h"
+#include "runtime/sim/agents.h"
+#include "runtime/sim/world.h"
+
+namespace sdv::io {
+
+using sim::fmt;
+
+void Recorder::start(const sim::World& w) {
+    csv_ << "time,tick,vehicle,kind,x,y,yaw,speed,accel,s,d,lane,maneuver\n";
+    road_ = road_json(w);
+}
+
+void Recorder::tick(const sim::World& w, int tick, double t) {
+    for (const sim::Agent& a : w.agents) {
+        csv_ << fmt(t) << "," << tick << "," << a.v->name << "," << a.model->kind() << "," << fmt(a.x) << "," << fmt(a.y) << ","
+             << fmt(a.yaw) << "," << fmt(a.speed) << "," << fmt(a.accel) << "," << fmt(a.lane_s) << "," << fmt(a.lane_d) << ","
+             << (a.lane != sim::kNoLane ? w.net.lane(a.lane).name : "") << "," << (a.driver ? a.driver->maneuver_name : "") << "\n";
+    }
+}
+
+void Recorder::plan(const sim::World& w, const sim::Agent& a) {
+    if (a.driver && a.driver->trace) decisions_ += decision_line(w, a, *a.driver->trace);
+}
+
+Recording Recorder::take() { return {csv_.str(), decisions_, road_}; }
+
+std::string decision_line(const sim::World& w, const sim::Agent& a, const sim::PlanTrace& tr) {
+    (void)w;
+    const auto& nodes = a.driver->tree->instance().nodes;
+    std::ostringstream o;
+    o << "{\"time\":" << fmt(tr.time) << ",\"vehicle\":\"" << a.v->name << "\",\"plan\":" << tr.plan_number << ",\"nodes\":[";
+    for (size_t i = 0; i < tr.visits.size(); ++i) {
+        const auto& node = nodes[static_cast<size_t>(tr.visits[i].node)];
+        o << (i ? "," : "") << "{\"node\":\"" << node.path << "\",\"status\":\"" << bt::to_string(tr.visits[i].status) << "\"}";
+    }
+    const auto& rec = tr.record;
+    o << "],\"maneuver\":\"" << tr.maneuver << "\",\"kind\":\"" << catalog::maneuver(tr.kind).name << "\",\"candidates\":" << rec.candidates
+      << ",\"feasible\":" << rec.feasible << ",\"rejected\":{";
+    for (size_t c = 0; c < planner::kCauseCount; ++c) {
+        o << (c ? "," : "") << "\"" << planner::to_string(static_cast<planner::RejectCause>(c)) << "\":" << rec.rejections[c];
+    }
+    const auto& wc = rec.winner_cost;
+    o << "},\"winner\":" << rec.winner << ",\"fallback\":" << (rec.fallback ? "true" : "false") << ",\"cost\":{\"time\":" << fmt(wc.time)
+      << ",\"efficiency\":" << fmt(wc.efficiency) << ",\"lane_offset\":" << fmt(wc.lane_offset) << ",\"long_jerk\":" << fmt(wc.long_jerk)
+      << ",\"lat_jerk\":" << fmt(wc.lat_jerk) << ",\"long_acc\":" << fmt(wc.long_acc) << ",\"lat_acc\":" << fmt(wc.lat_acc)
+      << ",\"proximity\":" << fmt(wc.proximity) << ",\"total\":" << fmt(wc.total) << "}";
+    const auto& st = tr.start;
+    o << ",\"start\":{\"s\":" << fmt(st.s) << ",\"s_d\":" << fmt(st.s_d) << ",\"s_dd\":" << fmt(st.s_dd) << ",\"d\":" << fmt(st.d)
+      << ",\"d_d\":" << fmt(st.d_d) << ",\"d_dd\":" << fmt(st.d_dd) << "}";
+    o << ",\"paths\":[";
+    for (size_t c = 0; c < tr.paths.size(); ++c) {
+        o << (c ? "," : "") << "{\"status\":\"" << tr.paths[c].status << "\",\"xy\":[";
+        for (size_t k = 0; k < tr.paths[c].xy.size(); ++k) o << (k ? "," : "") << fmt(tr.paths[c].xy[k], 2);
+        o << "]}";
+    }
+    o << "]}\n";
+    return o.str();
+}
+
+std::string road_json(const sim::World& w) {
+    const auto& net = w.net;
+    std::ostringstream o;
+    auto pts = [&](const std::vector<road::Vec2>& v) {
+        o << "[";
+        double since = 1e9;
+        bool first = true;
+        for (size_t i = 0; i < v.size(); ++i) {
+            if (i > 0) since += road::distance(v[i - 1], v[i]);
+            if (since < 1.0 && i + 1 != v.size()) continue;
+            since = 0;
+            o << (first ? "" : ",") << "[" << fmt(v[i].x, 2) << "," << fmt(v[i].y, 2) << "]";
+            first = false;
+        }
+        o << "]";
+    };
+    o << "{\"lanes\":[";
+    for (size_t i = 0; i < net.lanes().size(); ++i) {
+        const auto& l = net.lanes()[i];
+        o << (i ? "," : "") << "{\"name\":\"" << l.name << "\",\"centre\":";
+        pts(l.centre);
+        o << ",\"left\":";
+        pts(l.left_bound);
+        o << ",\"right\":";
+        pts(l.right_bound);
+        if (l.stop_line_s) {
+            const auto p = net.reference(l.id).point(*l.stop_line_s);
+            o << ",\"stop_line\":[" << fmt(p.x, 2) << "," << fmt(p.y, 2) << "]";
+        }
+        o << "}";
+    }
+    o << "],\"lights\":[";
+    for (size_t i = 0; i < net.lights.size(); ++i) {
+        const auto& tl = net.lights[i];
+        o << (i ? "," : "") << "{\"name\":\"" << tl.name << "\",\"position\":[" << fmt(tl.position.x, 2) << "," << fmt(tl.position.y, 2)
+          << "],\"lanes\":[";
+        for (size_t k = 0; k < tl.lanes.size(); ++k) o << (k ? "," : "") << "\"" << net.lane(tl.lanes[k]).name << "\"";
+        o << "],\"program\":[";
+        const auto it = w.programs.find(tl.name);
+        if (it != w.programs.end()) {
+            for (size_t k = 0; k < it->second->phases.size(); ++k) {
+                const auto& ph = it->second->phases[k];
+                o << (k ? "," : "") << "{\"state\":\"" << ph.state << "\",\"duration\":" << fmt(ph.duration, 3) << "}";
+            }
+        }
+        o << "],\"offset\":" << fmt(it != w.programs.end() ? it->second->offset : 0.0, 3) << "}";
+    }
+    o << "]}\n";
+    return o.str();
+}
+
+}  // namespace sdv::io

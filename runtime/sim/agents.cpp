@@ -1,0 +1,146 @@
+// The agent models of today: SDVs, trajectory vehicles and static objects.
+#include "runtime/sim/agents.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sdv::sim {
+namespace {
+
+// Follows the plan in force (the pending one takes over at its start time); the lane is the
+// path lane under the vehicle.
+class SdvModel final : public AgentModel {
+public:
+    explicit SdvModel(bool ego) : ego_(ego) {}
+    const char* kind() const override { return ego_ ? "ego" : "sdv"; }
+    void advance(const World& w, Agent& a, double t, int tick) const override {
+        (void)w;
+        (void)tick;
+        Driver& d = *a.driver;
+        if (d.pending && t + 1e-9 >= d.pending->start) {
+            d.plan = std::move(d.pending);
+            d.pending.reset();
+        }
+        const planner::FrenetState f = d.plan->traj.at(t - d.plan->start);
+        place(a, d.plan->ref->to_cartesian({f.s, f.s_d, f.s_dd, f.d, f.d_d, f.d_dd}), d.plan->ref->heading(f.s));
+        const auto probe = d.ref->project({a.x, a.y}, std::max(0.0, d.ref_s));
+        d.ref_s = probe.s;
+        for (size_t i = 0; i < d.path.size(); ++i) {
+            if (probe.s + 1e-9 >= d.path_start[i]) {
+                a.lane = d.path[i];
+                a.lane_s = probe.s - d.path_start[i];
+                a.lane_d = probe.d;
+            }
+        }
+    }
+
+private:
+    bool ego_;
+};
+
+// Coordinates on the lane under a non-SDV agent.
+void localise(const World& w, Agent& a, bool relocate) {
+    if (relocate) a.lane = w.net.locate({a.x, a.y}, a.yaw).lane;
+    if (a.lane != kNoLane) {
+        const auto f = w.net.reference(a.lane).project({a.x, a.y});
+        a.lane_s = f.s;
+        a.lane_d = f.d;
+    }
+}
+
+// Linear interpolation between time-stamped waypoints (the reference's TV); at rest after the
+// last one.
+class TrajectoryModel final : public AgentModel {
+public:
+    explicit TrajectoryModel(bool ego) : ego_(ego) {}
+    const char* kind() const override { return ego_ ? "ego" : "trajectory"; }
+    void advance(const World& w, Agent& a, double t, int tick) const override {
+        if (tick > 0) {
+            const auto& wp = a.v->trajectory;
+            size_t k = 0;
+            while (k + 2 < wp.size() && wp[k + 1].time <= t) ++k;
+            const auto pos = [&](size_t i) {
+                LaneId l;
+                double s;
+                w.locate(wp[i].position, l, s);
+                return w.net.reference(l).to_cartesian({s, 0, 0, wp[i].position.offset, 0, 0});
+            };
+            const auto p0 = pos(k), p1 = pos(k + 1);
+            const double span = std::max(1e-9, wp[k + 1].time - wp[k].time);
+            const double f = std::clamp((t - wp[k].time) / span, 0.0, 1.0);
+            road::CartesianState c;
+            c.x = p0.x + f * (p1.x - p0.x);
+            c.y = p0.y + f * (p1.y - p0.y);
+            c.vx = t <= wp.back().time ? (p1.x - p0.x) / span : 0;
+            c.vy = t <= wp.back().time ? (p1.y - p0.y) / span : 0;
+            const double old_speed = a.speed;
+            place(a, c);
+            a.accel = (a.speed - old_speed) / w.dt;
+        }
+        localise(w, a, true);
+    }
+
+private:
+    bool ego_;
+};
+
+class StaticModel final : public AgentModel {
+public:
+    const char* kind() const override { return "static"; }
+    void advance(const World& w, Agent& a, double t, int tick) const override {
+        (void)t;
+        (void)tick;
+        localise(w, a, false);
+    }
+};
+
+// Driven from outside (co-simulation, not supported yet: the checker rejects it, E0113); until
+// then it stays where it is placed.
+class ExternalModel final : public AgentModel {
+public:
+    const char* kind() const override { return "external"; }
+    void advance(const World& w, Agent& a, double t, int tick) const override {
+        (void)t;
+        (void)tick;
+        localise(w, a, true);
+    }
+};
+
+}  // namespace
+
+std::shared_ptr<const AgentModel> make_model(const ir::Vehicle& v) {
+    switch (v.kind) {
+        case ir::VehicleKind::sdv: return std::make_shared<SdvModel>(v.is_ego);
+        case ir::VehicleKind::trajectory: return std::make_shared<TrajectoryModel>(v.is_ego);
+        case ir::VehicleKind::static_object: return std::make_shared<StaticModel>();
+        case ir::VehicleKind::external: return std::make_shared<ExternalModel>();
+    }
+    return std::make_shared<StaticModel>();
+}
+
+void place(Agent& a, const road::CartesianState& c, std::optional<double> lane_heading) {
+    a.x = c.x;
+    a.y = c.y;
+    a.vx = c.vx;
+    a.vy = c.vy;
+    a.ax = c.ax;
+    a.ay = c.ay;
+    const double v = std::hypot(c.vx, c.vy);
+    if (v > 0.05) {
+        a.yaw = std::atan2(c.vy, c.vx);
+        // A car's heading stays within a steering angle's reach of its lane, however slowly it
+        // moves sideways in the Frenet plan (reverse: the opposite direction).
+        if (lane_heading) {
+            constexpr double kMaxRelative = 0.5;  // rad
+            const double fwd = *lane_heading + ((a.vx * std::cos(*lane_heading) + a.vy * std::sin(*lane_heading)) < 0 ? M_PI : 0.0);
+            const double rel = std::remainder(a.yaw - fwd, 2 * M_PI);
+            a.yaw = fwd + std::clamp(rel, -kMaxRelative, kMaxRelative);
+        }
+    }
+    // Signed speed: negative when moving against the heading (reverse).
+    const double along = c.vx * std::cos(a.yaw) + c.vy * std::sin(a.yaw);
+    a.speed = along >= 0 ? v : -v;
+    a.accel = c.ax * std::cos(a.yaw) + c.ay * std::sin(a.yaw);
+}
+
+}  // namespace sdv::sim

@@ -1,0 +1,298 @@
+// The catalog's conditions (docs/catalog.md), one function each, dispatched by
+// catalog::ConditionKind through condition_table(). Each reads the driver's view (own state at
+// the plan's start, the perceived agents) and the road; only `wait` keeps state (its timer).
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "runtime/catalog/catalog.h"
+#include "runtime/sim/leaves.h"
+
+namespace sdv::sim {
+namespace {
+
+using catalog::ConditionKind;
+
+bool in(double x, double lo, double hi) { return (std::isnan(lo) || x >= lo) && (std::isnan(hi) || x <= hi); }
+
+// Whether a vehicle parameter names another agent (rather than the driver itself).
+bool names_other(const ir::ParamValue* p) {
+    return p != nullptr && p->vehicle.kind != ir::VehicleRef::Kind::self && p->vehicle.kind != ir::VehicleRef::Kind::none;
+}
+
+const Snap& snap(const Leaves& l, int index) { return l.w.snapshot[static_cast<size_t>(index)]; }
+
+bool sim_time(Leaves& l, const ir::Node& n, int32_t) { return in(l.t0, l.num(n, "after"), l.num(n, "before")); }
+
+bool vehicle_state(Leaves& l, const ir::Node& n, int32_t) {
+    road::FrenetState f = l.view.self;
+    double speed = l.view.self.s_d, acc = snap(l, l.a.index).accel;
+    if (names_other(l.param(n, "vehicle"))) {
+        const Seen* s = l.vehicle(n, "vehicle", false);
+        if (s == nullptr) return false;
+        f = s->f;
+        speed = s->speed;
+        acc = snap(l, s->index).accel;
+    }
+    return in(f.s, l.num(n, "s_min"), l.num(n, "s_max")) && in(f.d, l.num(n, "d_min"), l.num(n, "d_max")) &&
+           in(speed, l.num(n, "speed_min"), l.num(n, "speed_max")) && in(acc, l.num(n, "acc_min"), l.num(n, "acc_max"));
+}
+
+bool delta_state(Leaves& l, const ir::Node& n, int32_t) {
+    const Seen* s = l.vehicle(n, "vehicle", false);
+    if (s == nullptr) return false;
+    const auto& self = l.view.self;
+    return in(s->f.s - self.s, l.num(n, "ds_min"), l.num(n, "ds_max")) && in(s->f.d - self.d, l.num(n, "dd_min"), l.num(n, "dd_max")) &&
+           in(s->speed - self.s_d, l.num(n, "dv_min"), l.num(n, "dv_max"));
+}
+
+bool gap(Leaves& l, const ir::Node& n, int32_t) {
+    const Seen* s = nullptr;
+    if (const auto* lane = l.param(n, "lane")) {
+        const int band = lane->choice == 0 ? 1 : lane->choice == 2 ? -1 : 0;
+        s = l.view.nearest(band, 1);
+    } else {
+        s = l.vehicle(n, "vehicle", true);
+    }
+    if (s == nullptr) return !std::isnan(l.num(n, "min")) || !std::isnan(l.num(n, "time_min"));  // nobody: gap is infinite
+    const auto& self = l.view.self;
+    const double g = std::fabs(s->f.s - self.s) - 0.5 * (s->length + l.a.v->length);
+    const double tgap = self.s_d > 0.1 ? g / self.s_d : INFINITY;
+    return in(g, l.num(n, "min"), l.num(n, "max")) && in(tgap, l.num(n, "time_min"), l.num(n, "time_max"));
+}
+
+bool ttc(Leaves& l, const ir::Node& n, int32_t) {
+    const Seen* s = l.vehicle(n, "vehicle", true);
+    if (s == nullptr) return false;
+    const auto& self = l.view.self;
+    const double ds = s->f.s - self.s;
+    const double g = std::fabs(ds) - 0.5 * (s->length + l.a.v->length);
+    const double closing = ds >= 0 ? self.s_d - s->f.s_d : s->f.s_d - self.s_d;
+    if (closing <= 0) return false;
+    return std::max(g, 0.0) / closing < l.num(n, "max");
+}
+
+bool distance(Leaves& l, const ir::Node& n, int32_t) {
+    const Seen* s = l.vehicle(n, "vehicle", false);
+    return s != nullptr && in(s->dist, l.num(n, "min"), l.num(n, "max"));
+}
+
+bool lane_occupied(Leaves& l, const ir::Node& n, int32_t) {
+    const auto* lane = l.param(n, "lane");
+    const int band = lane == nullptr || lane->choice == 1 ? 0 : lane->choice == 0 ? 1 : -1;
+    const double objects = l.num(n, "objects");
+    const Seen* s = l.view.nearest(band, 1, std::isnan(objects) || objects != 0);
+    if (s == nullptr) return false;
+    const double g = s->f.s - l.view.self.s - 0.5 * (s->length + l.a.v->length);
+    const double tg = l.num(n, "time_gap");
+    if (!std::isnan(tg)) return g <= tg * std::max(l.view.self.s_d, 0.0);
+    return g <= l.num(n, "distance");
+}
+
+bool can_lane_change(Leaves& l, const ir::Node& n, int32_t) {
+    const auto* lane = l.param(n, "lane");
+    const bool left = lane == nullptr || lane->choice == 0;
+    const auto& ln = l.w.net.lane(l.a.lane);
+    const LaneId nb = left ? ln.left : ln.right;
+    const bool same = left ? ln.left_same_direction : ln.right_same_direction;
+    if (nb == kNoLane || !same) return false;
+    const double g = l.num(n, "gap");
+    for (const Seen& s : l.view.seen) {
+        if (l.view.band_of(s.f.d) != (left ? 1 : -1)) continue;
+        if (std::fabs(s.f.s - l.view.self.s) < g + 0.5 * (s.length + l.a.v->length)) return false;
+    }
+    return true;
+}
+
+// vehicle_moving, vehicle_stopped, vehicle_parked: of the driver or of another agent.
+const Snap* subject(Leaves& l, const ir::Node& n) {
+    int idx = l.a.index;
+    if (names_other(l.param(n, "vehicle"))) {
+        const Seen* s = l.vehicle(n, "vehicle", false);
+        if (s == nullptr) return nullptr;
+        idx = s->index;
+    }
+    return &snap(l, idx);
+}
+
+bool vehicle_moving(Leaves& l, const ir::Node& n, int32_t) {
+    const Snap* o = subject(l, n);
+    return o != nullptr && std::fabs(o->speed) > l.num(n, "min_speed");
+}
+
+bool vehicle_stopped(Leaves& l, const ir::Node& n, int32_t) {
+    const Snap* o = subject(l, n);
+    return o != nullptr && std::fabs(o->speed) <= l.num(n, "max_speed");
+}
+
+bool vehicle_parked(Leaves& l, const ir::Node& n, int32_t) {
+    const Snap* o = subject(l, n);
+    return o != nullptr && o->stopped_since >= 0 && l.t0 - o->stopped_since >= l.num(n, "duration");
+}
+
+bool reached_goal(Leaves& l, const ir::Node& n, int32_t) {
+    if (l.a.goal_lane == kNoLane) return false;
+    const Driver& d = *l.a.driver;
+    for (size_t i = 0; i < d.path.size(); ++i) {
+        if (d.path[i] == l.a.goal_lane) {
+            const double gs = d.path_start[i] + l.a.goal_s;
+            return gs - l.view.self.s <= l.num(n, "distance");
+        }
+    }
+    return false;
+}
+
+bool at_lane_change_segment(Leaves& l, const ir::Node& n, int32_t) {
+    const auto& route = l.a.route;
+    for (size_t r = 0; r + 1 < route.size(); ++r) {
+        if (route[r].lane == l.a.lane && route[r + 1].by_lane_change) {
+            const auto* lane = l.param(n, "lane");
+            const bool left = route[r + 1].lane == l.w.net.lane(l.a.lane).left;
+            if (lane == nullptr || lane->choice == 2) return true;
+            return (lane->choice == 0) == left;
+        }
+    }
+    return false;
+}
+
+// approaching_stop, traffic_light and intersection_type look along the path for the next stop
+// line or junction lane.
+bool along_path(Leaves& l, const ir::Node& n, ConditionKind kind) {
+    const Driver& d = *l.a.driver;
+    const double self_s = l.view.self.s;
+    const double look = kind == ConditionKind::intersection_type ? 200.0 : l.num(n, "distance");
+    for (size_t i = 0; i < d.path.size(); ++i) {
+        const auto& ln = l.w.net.lane(d.path[i]);
+        const double start = d.path_start[i];
+        if (start > self_s + look) break;
+        const bool stop_ahead = ln.stop_line_s && start + *ln.stop_line_s >= self_s - 0.5 && start + *ln.stop_line_s <= self_s + look;
+        if (kind == ConditionKind::approaching_stop) {
+            const auto* k = l.param(n, "kind");
+            const int want = k == nullptr ? 2 : k->choice;
+            if (stop_ahead && want != 1) return true;
+            if (ln.in_junction && start >= self_s && start <= self_s + look && want != 0) return true;
+            continue;
+        }
+        if (kind == ConditionKind::traffic_light) {
+            if (!stop_ahead || ln.traffic_lights.empty()) continue;
+            const auto* st = l.param(n, "state");
+            const std::string state = l.w.light_state(ln.traffic_lights.front(), l.t0);
+            static const char* kStates[] = {"red", "yellow", "green"};
+            return st != nullptr && state == kStates[st->choice];
+        }
+        // intersection type of the next stop / junction
+        if (stop_ahead || ln.in_junction) {
+            const auto* ty = l.param(n, "type");
+            const int want = ty == nullptr ? 3 : ty->choice;
+            const int have = !ln.traffic_lights.empty() ? 1 : ln.all_way_stop ? 0 : ln.right_of_way >= 0 ? 2 : 3;
+            return want == have;
+        }
+    }
+    if (kind == ConditionKind::intersection_type) {
+        const auto* ty = l.param(n, "type");
+        return ty != nullptr && ty->choice == 3;
+    }
+    return false;
+}
+
+bool approaching_stop(Leaves& l, const ir::Node& n, int32_t) { return along_path(l, n, ConditionKind::approaching_stop); }
+bool traffic_light(Leaves& l, const ir::Node& n, int32_t) { return along_path(l, n, ConditionKind::traffic_light); }
+bool intersection_type(Leaves& l, const ir::Node& n, int32_t) { return along_path(l, n, ConditionKind::intersection_type); }
+
+bool yield_role(Leaves& l, const ir::Node& n, int32_t) {
+    const auto& ln = l.w.net.lane(l.a.lane);
+    if (ln.right_of_way < 0) return false;
+    const auto& row = l.w.net.rights_of_way[static_cast<size_t>(ln.right_of_way)];
+    const bool yields = std::find(row.yield.begin(), row.yield.end(), l.a.lane) != row.yield.end();
+    const auto* role = l.param(n, "role");
+    return role != nullptr && (role->choice == 0) == yields;
+}
+
+bool intersection_occupied(Leaves& l, const ir::Node& n, int32_t) {
+    for (const Seen& s : l.view.seen) {
+        const LaneId ol = snap(l, s.index).lane;
+        if (ol != kNoLane && l.w.net.lane(ol).in_junction && s.dist < 60 + l.num(n, "distance")) return true;
+    }
+    return false;
+}
+
+// First come, first served among vehicles stopped at all-way-stop lines; ties by vehicle
+// order. The junction must be clear.
+bool all_way_stop_turn(Leaves& l, const ir::Node&, int32_t) {
+    const Snap& m = snap(l, l.a.index);
+    if (m.stopped_since < 0) return false;
+    for (const Seen& s : l.view.seen) {
+        const Snap& o = snap(l, s.index);
+        if (o.lane == kNoLane) continue;
+        const auto& ol = l.w.net.lane(o.lane);
+        if (ol.in_junction && s.dist < 40) return false;
+        if (ol.all_way_stop && o.stopped_since >= 0 && s.dist < 40 &&
+            (o.stopped_since < m.stopped_since || (o.stopped_since == m.stopped_since && s.index < l.a.index))) {
+            return false;
+        }
+    }
+    return true;
+}
+
+bool out_of_route(Leaves& l, const ir::Node&, int32_t) {
+    if (l.a.goal_lane == kNoLane) return false;
+    const auto& path = l.a.driver->path;
+    const bool on = std::find(path.begin(), path.end(), l.a.lane) != path.end() &&
+                    std::find(path.begin(), path.end(), l.a.goal_lane) != path.end();
+    return !on;
+}
+
+bool wait(Leaves& l, const ir::Node& n, int32_t index) {
+    Driver& d = *l.a.driver;
+    auto [it, fresh] = d.waits.try_emplace(index, l.t0, d.plan_count);
+    if (!fresh && it->second.second + 1 != d.plan_count && it->second.second != d.plan_count) it->second.first = l.t0;
+    it->second.second = d.plan_count;
+    return l.t0 - it->second.first >= l.num(n, "time") - 1e-9;
+}
+
+bool stopped_at_line(Leaves& l, const ir::Node& n, int32_t) {
+    return l.a.stopped_line == l.a.lane && l.a.stopped_gap <= l.num(n, "distance");
+}
+
+constexpr size_t kConditionKinds = static_cast<size_t>(ConditionKind::stopped_at_line) + 1;
+
+// Indexed by catalog::ConditionKind; each entry names its kind, so that tests/unit/sim can check
+// the table against the catalog entry by entry.
+constexpr std::array<ConditionEntry, kConditionKinds> kTable = {{
+    {ConditionKind::sim_time, sim_time},
+    {ConditionKind::vehicle_state, vehicle_state},
+    {ConditionKind::delta_state, delta_state},
+    {ConditionKind::gap, gap},
+    {ConditionKind::ttc, ttc},
+    {ConditionKind::distance, distance},
+    {ConditionKind::lane_occupied, lane_occupied},
+    {ConditionKind::can_lane_change, can_lane_change},
+    {ConditionKind::vehicle_moving, vehicle_moving},
+    {ConditionKind::vehicle_stopped, vehicle_stopped},
+    {ConditionKind::vehicle_parked, vehicle_parked},
+    {ConditionKind::reached_goal, reached_goal},
+    {ConditionKind::at_lane_change_segment, at_lane_change_segment},
+    {ConditionKind::approaching_stop, approaching_stop},
+    {ConditionKind::traffic_light, traffic_light},
+    {ConditionKind::intersection_type, intersection_type},
+    {ConditionKind::yield_role, yield_role},
+    {ConditionKind::intersection_occupied, intersection_occupied},
+    {ConditionKind::all_way_stop_turn, all_way_stop_turn},
+    {ConditionKind::out_of_route, out_of_route},
+    {ConditionKind::wait, wait},
+    {ConditionKind::stopped_at_line, stopped_at_line},
+}};
+
+constexpr bool in_kind_order() {
+    for (size_t i = 0; i < kTable.size(); ++i) {
+        if (static_cast<size_t>(kTable[i].kind) != i) return false;
+    }
+    return true;
+}
+static_assert(in_kind_order(), "the condition table must follow catalog::ConditionKind");
+
+}  // namespace
+
+std::span<const ConditionEntry> condition_table() { return kTable; }
+
+}  // namespace sdv::sim

@@ -1,0 +1,106 @@
+#include "runtime/sim/leaves.h"
+
+#include <cmath>
+
+#include "runtime/catalog/catalog.h"
+
+namespace sdv::sim {
+
+using catalog::ManeuverKind;
+
+const ir::ParamValue* Leaves::param(const ir::Node& n, const char* name) const {
+    const auto& defs = n.kind == ir::NodeKind::maneuver ? catalog::maneuvers()[static_cast<size_t>(n.leaf)].params
+                                                        : catalog::conditions()[static_cast<size_t>(n.leaf)].params;
+    for (size_t i = 0; i < defs.size() && i < n.params.size(); ++i) {
+        if (defs[i].name == name) return n.params[i].given ? &n.params[i] : nullptr;
+    }
+    return nullptr;
+}
+
+double Leaves::num(const ir::Node& n, const char* name) const {
+    const auto* p = param(n, name);
+    if (p == nullptr) return NAN;
+    if (n.kind == ir::NodeKind::condition && p->number.hi > p->number.lo) {
+        const auto node = static_cast<uint32_t>(&n - a.driver->tree->instance().nodes.data());
+        const auto slot = static_cast<uint32_t>(p - n.params.data());
+        planner::RandomStream rng(w.seed, static_cast<uint32_t>(a.index), 0x80000000u | (node << 8) | slot);
+        return p->number.lo + (p->number.hi - p->number.lo) * rng.uniform();
+    }
+    return p->number.value;
+}
+
+const Seen* Leaves::vehicle(const ir::Node& n, const char* name, bool default_leader) const {
+    const auto* p = param(n, name);
+    if (p == nullptr || p->vehicle.kind == ir::VehicleRef::Kind::none) return default_leader ? view.nearest(0, 1) : nullptr;
+    switch (p->vehicle.kind) {
+        case ir::VehicleRef::Kind::vehicle: return view.find(p->vehicle.vehicle);
+        case ir::VehicleRef::Kind::zone: {
+            const std::string& z = catalog::vehicle_zones()[static_cast<size_t>(p->vehicle.zone)];
+            if (z == "front") return view.nearest(0, 1);
+            if (z == "back") return view.nearest(0, -1);
+            if (z == "left") return view.nearest(1, 0);
+            if (z == "right") return view.nearest(-1, 0);
+            if (z == "front_left") return view.nearest(1, 1);
+            if (z == "front_right") return view.nearest(-1, 1);
+            if (z == "back_left") return view.nearest(1, -1);
+            if (z == "back_right") return view.nearest(-1, -1);
+            return nullptr;
+        }
+        default: return nullptr;
+    }
+}
+
+bool Leaves::condition(const ir::Node& n, int32_t index) {
+    const auto table = condition_table();
+    const auto kind = static_cast<size_t>(n.leaf);
+    return kind < table.size() && table[kind].fn(*this, n, index);
+}
+
+bt::Status Leaves::maneuver(const ir::Node& n, int32_t index) {
+    const auto kind = static_cast<ManeuverKind>(n.leaf);
+    (void)index;
+    Driver& d = *a.driver;
+    switch (kind) {
+        case ManeuverKind::follow: return vehicle(n, "leader", true) != nullptr ? bt::Status::success : bt::Status::failure;
+        case ManeuverKind::lane_change:
+        case ManeuverKind::cut_in: {
+            if (kind == ManeuverKind::cut_in && vehicle(n, "target", false) == nullptr) return bt::Status::failure;
+            const auto* lane = param(n, "lane");
+            const auto& l = w.net.lane(a.lane);
+            int side = 0;  // +1 left, −1 right
+            if (lane != nullptr) {
+                const std::string& word = catalog::maneuver(kind).find_param("lane")->choices[static_cast<size_t>(lane->choice)];
+                if (word == "left") side = 1;
+                else if (word == "right") side = -1;
+                else if (word == "target") {
+                    const Seen* t = vehicle(n, "target", false);
+                    side = t == nullptr ? 0 : view.band_of(t->f.d);
+                    if (side == 9) side = 0;
+                } else if (word == "route") {
+                    for (size_t r = 0; r + 1 < a.route.size(); ++r) {
+                        if (a.route[r].lane == a.lane && a.route[r + 1].by_lane_change) side = a.route[r + 1].lane == l.left ? 1 : -1;
+                    }
+                }
+            }
+            if (side == 0) {
+                // Already in the target lane (a swerve, or the cut-in target is beside us).
+                return bt::Status::success;
+            }
+            const LaneId nb = side > 0 ? l.left : l.right;
+            const bool same = side > 0 ? l.left_same_direction : l.right_same_direction;
+            if (nb == kNoLane || !same) return bt::Status::failure;
+            const double lw = l.width, target_d = side * lw;
+            // Done when the whole footprint is inside the target lane.
+            if (std::fabs(view.self.d - target_d) + 0.5 * a.v->width <= 0.5 * lw + 1e-6) {
+                d.target_lane = nb;
+                switched = true;
+                return bt::Status::success;
+            }
+            d.target_lane = nb;
+            return bt::Status::running;
+        }
+        default: return bt::Status::success;
+    }
+}
+
+}  // namespace sdv::sim

@@ -1,0 +1,50 @@
+// The leaves of one driver's tree, answered against its view of the snapshot: conditions (one
+// function per catalog condition, conditions.cpp) and maneuver leaves (their status, SPEC §3.4).
+// Conditions see the state at the plan's start (the own state predicted one latency ahead along
+// the plan in force, others at constant velocity).
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "runtime/bt/behavior_tree.h"
+#include "runtime/catalog/catalog.h"
+#include "runtime/sim/perception.h"
+#include "runtime/sim/world.h"
+
+namespace sdv::sim {
+
+class Leaves : public bt::TickContext {
+public:
+    Leaves(const World& world, Agent& agent, double plan_time, double start_time)
+        : w(world), a(agent), t0(plan_time), t_start(start_time) {}
+    bool condition(const ir::Node& n, int32_t index) override;
+    bt::Status maneuver(const ir::Node& n, int32_t index) override;
+    void perceive() { view.build(w, a, t0, t_start); }
+
+    // A parameter of a leaf as given in the scenario (null when left to its default).
+    const ir::ParamValue* param(const ir::Node& n, const char* name) const;
+    // A number parameter (NaN when not given). A condition threshold given as a range is one
+    // draw per vehicle, node and run: a driver's acceptance gap varies between drivers, not from
+    // tick to tick.
+    double num(const ir::Node& n, const char* name) const;
+    // A vehicle parameter resolved against the view (the nearest leader ahead when not given
+    // and `default_leader`); null when it names nobody in sensor range.
+    const Seen* vehicle(const ir::Node& n, const char* name, bool default_leader) const;
+
+    const World& w;
+    Agent& a;
+    const double t0, t_start;
+    View view;
+    bool switched = false;  // a lane change completed during this cycle
+};
+
+// One function per catalog condition, indexed by catalog::ConditionKind.
+using ConditionFn = bool (*)(Leaves& leaves, const ir::Node& node, int32_t index);
+struct ConditionEntry {
+    catalog::ConditionKind kind;
+    ConditionFn fn;
+};
+std::span<const ConditionEntry> condition_table();
+
+}  // namespace sdv::sim

@@ -1,0 +1,66 @@
+#include "runtime/sim/path.h"
+
+#include <algorithm>
+
+namespace sdv::sim {
+namespace {
+
+constexpr double kPathAhead = 300.0;  // m of lanes in a reference line ahead of the vehicle
+constexpr double kPathBehind = 60.0;
+
+}  // namespace
+
+std::shared_ptr<const road::ReferenceLine> build_path(const road::RoadNetwork& net, const std::vector<road::RouteStep>& route,
+                                                      Driver& d, LaneId from) {
+    d.path.clear();
+    d.path_start.clear();
+    std::vector<road::Vec2> pts;
+    double len = 0;
+    // One predecessor behind, so that vehicles behind project well.
+    const auto& first = net.lane(from);
+    if (!first.predecessors.empty()) {
+        const auto& pre = net.lane(first.predecessors.front());
+        const double skip = std::max(0.0, pre.length - kPathBehind);
+        double acc = 0;
+        for (size_t i = 0; i < pre.centre.size(); ++i) {
+            if (i > 0) acc += road::distance(pre.centre[i - 1], pre.centre[i]);
+            if (acc >= skip) pts.push_back(pre.centre[i]);
+        }
+    }
+    const double behind = road::polyline_length(pts);
+    LaneId cur = from;
+    double s0 = behind;
+    for (int guard = 0; guard < 64 && cur != kNoLane && len < kPathAhead + behind; ++guard) {
+        const auto& l = net.lane(cur);
+        d.path.push_back(cur);
+        d.path_start.push_back(s0);
+        for (const auto& q : l.centre) {
+            if (pts.empty() || road::distance(pts.back(), q) > 1e-3) pts.push_back(q);
+        }
+        s0 += l.length;
+        len = s0;
+        // Next lane: along the route when it continues by a successor, else the first successor.
+        LaneId next = kNoLane;
+        for (size_t r = 0; r + 1 < route.size(); ++r) {
+            if (route[r].lane == cur && !route[r + 1].by_lane_change) next = route[r + 1].lane;
+        }
+        if (next == kNoLane && !l.successors.empty()) {
+            // Prefer going straight (lowest turn change) deterministically: the first successor.
+            next = l.successors.front();
+            for (LaneId sc : l.successors) {
+                if (net.lane(sc).turn == road::Turn::straight) next = sc;
+            }
+        }
+        if (std::find(d.path.begin(), d.path.end(), next) != d.path.end()) break;  // loops
+        cur = next;
+    }
+    auto ref = road::ReferenceLine::build(pts);
+    if (!ref) return nullptr;
+    // Lane starts measured on the fitted line.
+    for (size_t i = 0; i < d.path.size(); ++i) {
+        d.path_start[i] = ref->project(net.lane(d.path[i]).centre.front(), d.path_start[i]).s;
+    }
+    return std::make_shared<const road::ReferenceLine>(std::move(*ref));
+}
+
+}  // namespace sdv::sim

@@ -1,0 +1,91 @@
+#include "runtime/sim/perception.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sdv::sim {
+
+void View::build(const World& w, const Agent& a, double t0, double t_start) {
+    w_ = &w;
+    own_length_ = a.v->length;
+    lane_width = a.lane != kNoLane ? w.net.lane(a.lane).width : 3.5;
+    const Driver& dr = *a.driver;
+    const auto& ref = *dr.ref;
+    // Own state at the plan start, along the plan in force.
+    road::CartesianState c{a.x, a.vx, a.ax, a.y, a.vy, a.ay};
+    std::optional<planner::FrenetState> in_plan;
+    if (dr.plan) {
+        in_plan = dr.plan->traj.at(t_start - dr.plan->start);
+        const planner::FrenetState& f = *in_plan;
+        c = dr.plan->ref->to_cartesian({f.s, f.s_d, f.s_dd, f.d, f.d_d, f.d_dd});
+    }
+    self = ref.to_frenet(c);
+    if (in_plan && dr.plan->ref != dr.ref) {
+        // A new reference line (a lane change completed, or the path was rebuilt): converting
+        // accelerations through two lines' curvature amplifies the kinks of map centre lines,
+        // so they carry over from the plan's frame (the lines are near-parallel here).
+        self.s_dd = in_plan->s_dd;
+        self.d_dd = in_plan->d_dd;
+    }
+    self.s_dd = std::clamp(self.s_dd, -kMaxStartAcc, kMaxStartAcc);
+    self.d_dd = std::clamp(self.d_dd, -kMaxStartLatAcc, kMaxStartLatAcc);
+    // At rest the brakes hold: the end of a stopping plan's deceleration does not carry into the
+    // next plan (it would make every start from standstill roll backwards first).
+    if (std::fabs(self.s_d) < kRestSpeed) self.s_dd = 0;
+    seen.clear();
+    const Snap& me = w.snapshot[static_cast<size_t>(a.index)];
+    for (size_t j = 0; j < w.snapshot.size(); ++j) {
+        if (static_cast<int>(j) == a.index) continue;
+        const Snap& o = w.snapshot[j];
+        const double dist = std::hypot(o.x - me.x, o.y - me.y);
+        if (dist > w.scenario.sensor_range) continue;
+        Seen s;
+        s.index = static_cast<int>(j);
+        s.f = ref.to_frenet({o.x, o.vx, 0, o.y, o.vy, 0});
+        // Constant velocity in Frenet up to the plan start.
+        const double lat = t_start - t0;
+        s.f.s += s.f.s_d * lat;
+        s.f.d += s.f.d_d * lat;
+        s.f.s_dd = s.f.d_dd = 0;
+        s.length = o.length;
+        s.width = o.width;
+        s.speed = o.speed;
+        s.dist = dist;
+        seen.push_back(s);
+    }
+}
+
+int View::band_of(double d) const {
+    const double w = lane_width;
+    if (std::fabs(d) < 0.5 * w) return 0;
+    if (d > 0 && d < 1.5 * w) return 1;
+    if (d < 0 && d > -1.5 * w) return -1;
+    return 9;
+}
+
+const Seen* View::nearest(int band, int where, bool objects) const {
+    const Seen* best = nullptr;
+    double best_ds = INFINITY;
+    for (const Seen& s : seen) {
+        if (!objects && w_->snapshot[static_cast<size_t>(s.index)].is_static) continue;
+        if (band_of(s.f.d) != band) continue;
+        const double ds = s.f.s - self.s;
+        const double half = 0.5 * (s.length + own_length_);
+        const int pos = ds > half ? 1 : ds < -half ? -1 : 0;
+        if (pos != where) continue;
+        if (std::fabs(ds) < best_ds) {
+            best_ds = std::fabs(ds);
+            best = &s;
+        }
+    }
+    return best;
+}
+
+const Seen* View::find(int index) const {
+    for (const Seen& s : seen) {
+        if (s.index == index) return &s;
+    }
+    return nullptr;
+}
+
+}  // namespace sdv::sim

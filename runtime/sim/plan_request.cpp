@@ -1,0 +1,91 @@
+#include "runtime/sim/plan_request.h"
+
+#include "runtime/catalog/catalog.h"
+
+namespace sdv::sim {
+namespace {
+
+using catalog::ManeuverKind;
+
+planner::Sampled to_sampled(const ir::Sampled& s) {
+    return {s.value, s.lo, s.hi, s.samples, static_cast<planner::SampleMethod>(static_cast<int>(s.method)), s.sigma};
+}
+
+}  // namespace
+
+void apply_params(const ir::Node& n, planner::ManeuverConfig& cfg) {
+    const auto& defs = catalog::maneuvers()[static_cast<size_t>(n.leaf)].params;
+    for (size_t i = 0; i < defs.size() && i < n.params.size(); ++i) {
+        const ir::ParamValue& v = n.params[i];
+        if (v.given) planner::set_field(cfg, defs[i].field, to_sampled(v.number), v.choice);
+    }
+}
+
+void make_request(const Leaves& l, int32_t sel, PlanInputs& out) {
+    const World& w = l.w;
+    const Agent& a = l.a;
+    const Driver& d = *a.driver;
+    planner::ManeuverConfig& cfg = out.config;
+    planner::PlanRequest& req = out.request;
+    cfg = planner::default_config(ManeuverKind::keep_velocity);
+    req = planner::PlanRequest{};
+    out.obstacles.clear();
+    for (const Seen& s : l.view.seen) {
+        out.obstacles.push_back({s.index, {s.f.s, s.f.s_d, 0, s.f.d, s.f.d_d, 0}, s.length, s.width, w.snapshot[static_cast<size_t>(s.index)].is_static});
+    }
+    const double lw = a.lane != kNoLane ? w.net.lane(a.lane).width : 3.5;
+    req.current_lane = {0, 0.5 * lw, -0.5 * lw};
+    req.target_lane = req.current_lane;
+    if (sel >= 0) {
+        const ir::Node& n = d.tree->instance().nodes[static_cast<size_t>(sel)];
+        const auto kind = static_cast<ManeuverKind>(n.leaf);
+        cfg = planner::default_config(kind);
+        apply_params(n, cfg);
+        auto index_of = [&](const Seen* s) -> int {
+            if (s == nullptr) return -1;
+            for (size_t i = 0; i < out.obstacles.size(); ++i) {
+                if (out.obstacles[i].id == s->index) return static_cast<int>(i);
+            }
+            return -1;
+        };
+        if (kind == ManeuverKind::follow) req.leader = index_of(l.vehicle(n, "leader", true));
+        if (kind == ManeuverKind::cut_in) req.target_vehicle = index_of(l.vehicle(n, "target", false));
+        if ((kind == ManeuverKind::lane_change || kind == ManeuverKind::cut_in) && d.target_lane != kNoLane) {
+            const auto& ln = w.net.lane(a.lane);
+            const double side = d.target_lane == ln.left ? 1.0 : -1.0;
+            req.target_lane = {side * lw, side * lw + 0.5 * lw, side * lw - 0.5 * lw};
+        }
+        if (kind == ManeuverKind::stop) {
+            const auto which = cfg.stop_at;
+            req.stop_s = l.view.self.s;
+            for (size_t i = 0; i < d.path.size(); ++i) {
+                const auto& ln = w.net.lane(d.path[i]);
+                if (which == planner::StopTarget::goal && d.path[i] == a.goal_lane) {
+                    req.stop_s = d.path_start[i] + a.goal_s;
+                    break;
+                }
+                if (which == planner::StopTarget::stop_line && ln.stop_line_s && d.path_start[i] + *ln.stop_line_s >= l.view.self.s - 1) {
+                    req.stop_s = d.path_start[i] + *ln.stop_line_s - 0.5 * a.v->length;
+                    break;
+                }
+            }
+            if (which == planner::StopTarget::position) {
+                if (cfg.stop_position) req.stop_s = *cfg.stop_position;
+                req.stop_s += d.path_start.empty() ? 0 : d.path_start.front();
+            }
+            if (which == planner::StopTarget::goal && a.goal_lane == kNoLane) cfg.stop_at = planner::StopTarget::now;
+        }
+    }
+    const auto& self = l.view.self;
+    req.start = {self.s, self.s_d, self.s_dd, self.d, self.d_d, self.d_dd};
+    req.length_m = a.v->length;
+    req.width_m = a.v->width;
+    req.config = &cfg;
+    req.obstacles = out.obstacles;
+    req.speed_limit_mps = a.lane != kNoLane ? w.net.lane(a.lane).speed_limit : 0;
+    req.seed = w.seed;
+    req.vehicle = static_cast<uint32_t>(a.index);
+    req.plan_number = d.plan_count;
+}
+
+}  // namespace sdv::sim

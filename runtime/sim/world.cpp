@@ -1,0 +1,205 @@
+// Building a run's world from the IR: the road network (built-in road, junction or Lanelet2
+// map), the light programs, and every agent placed at its start with its model, route and, for
+// SDVs, its driver.
+#include "runtime/sim/world.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "runtime/road/builtin_road.h"
+#include "runtime/road/lanelet2_reader.h"
+#include "runtime/sim/agents.h"
+#include "runtime/sim/path.h"
+
+namespace sdv::sim {
+
+std::string fmt(double v, int digits) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+    std::string s = buf;
+    if (s == "-0.0000" || s == "-0.000" || s == "-0.00") s = s.substr(1);
+    return s;
+}
+
+std::string World::where(const ir::SourceLoc& l) const {
+    const std::string file = l.file < program.files.size() ? program.files[l.file] : "?";
+    return file + ":" + std::to_string(l.line) + ":" + std::to_string(l.col);
+}
+
+std::optional<double> World::goal_distance(const Agent& a) const {
+    if (a.driver && a.driver->ref) {
+        const Driver& d = *a.driver;
+        for (size_t i = 0; i < d.path.size(); ++i) {
+            if (d.path[i] == a.goal_lane) return std::fabs(d.path_start[i] + a.goal_s - d.ref_s);
+        }
+        return std::nullopt;
+    }
+    if (a.lane != a.goal_lane) return std::nullopt;
+    return std::fabs(a.goal_s - a.lane_s);
+}
+
+std::string World::light_state(int32_t light, double t) const {
+    if (light < 0 || static_cast<size_t>(light) >= net.lights.size()) return "green";
+    auto it = programs.find(net.lights[static_cast<size_t>(light)].name);
+    if (it == programs.end() || it->second->phases.empty()) return "green";
+    const auto& ph = it->second->phases;
+    double total = 0;
+    for (const auto& x : ph) total += x.duration;
+    double u = std::fmod(t + it->second->offset, total);
+    for (const auto& x : ph) {
+        if (u < x.duration) return x.state;
+        u -= x.duration;
+    }
+    return ph.back().state;
+}
+
+std::string World::locate(const ir::Position& pos, LaneId& lane, double& s) const {
+    if (pos.xy) {
+        auto l = net.locate({pos.x, pos.y}, pos.has_heading ? std::optional<double>(pos.heading) : std::nullopt);
+        if (l.lane == kNoLane) return "position is not on any lane";
+        lane = l.lane;
+        s = l.s;
+        return "";
+    }
+    auto id = net.find(pos.lane);
+    if (!id) return "lane '" + pos.lane + "' does not exist on the road";
+    lane = *id;
+    s = pos.s;
+    // Built-in roads measure positions from the road's start; backward lanes run the other way.
+    const ir::Road& road = program.roads.at(static_cast<size_t>(scenario.road));
+    if (road.kind == ir::RoadKind::road && pos.lane.find(".-") != std::string::npos) {
+        s = net.lane(lane).length - pos.s;
+    }
+    if (s < 0 || s > net.lane(lane).length + 1e-6) {
+        return "position s = " + fmt(pos.s, 1) + " m is off lane '" + pos.lane + "' (" + fmt(net.lane(lane).length, 1) + " m long)";
+    }
+    return "";
+}
+
+std::string World::build_road() {
+    const ir::Road& r = program.roads.at(static_cast<size_t>(scenario.road));
+    const std::string at = where(r.loc);
+    switch (r.kind) {
+        case ir::RoadKind::road: {
+            road::RoadSpec spec;
+            spec.name = r.name;
+            spec.lanes_forward = r.lanes_forward;
+            spec.lanes_backward = r.lanes_backward;
+            spec.lane_width_m = r.lane_width;
+            spec.speed_limit_mps = r.speed_limit;
+            spec.origin = {r.origin_x, r.origin_y};
+            spec.heading_rad = r.heading;
+            for (const auto& s : r.segments) {
+                spec.segments.push_back({s.arc ? road::Segment::arc : road::Segment::straight, s.length, s.radius});
+            }
+            auto b = road::build_road(spec);
+            if (!b.errors.empty()) return at + ": " + b.errors.front();
+            net = std::move(b.network);
+            break;
+        }
+        case ir::RoadKind::junction: {
+            road::JunctionSpec spec;
+            spec.name = r.name;
+            spec.lanes_per_direction = r.lanes_forward;
+            spec.lane_width_m = r.lane_width;
+            spec.speed_limit_mps = r.speed_limit;
+            spec.arm_length_m = r.arm_length;
+            spec.control = r.control == "traffic_lights"  ? road::JunctionSpec::traffic_lights
+                           : r.control == "two_way_stops" ? road::JunctionSpec::two_way_stops
+                           : r.control == "none"          ? road::JunctionSpec::none
+                                                          : road::JunctionSpec::stop_signs;
+            auto b = road::build_junction(spec);
+            if (!b.errors.empty()) return at + ": " + b.errors.front();
+            net = std::move(b.network);
+            break;
+        }
+        case ir::RoadKind::lanelet2: {
+            std::optional<road::GeoOrigin> origin;
+            if (r.has_origin) origin = road::GeoOrigin{r.origin_lat, r.origin_lon, r.origin_alt};
+            auto l = road::load_lanelet2(r.map_file, origin);
+            if (!l.errors.empty()) return at + ": map '" + r.map_file + "': " + l.errors.front();
+            net = std::move(*l.network);
+            break;
+        }
+    }
+    // Reference lines are built lazily by the network: build them all now, before any thread
+    // reads them.
+    for (const auto& l : net.lanes()) (void)net.reference(l.id);
+    for (const auto& l : scenario.lights) {
+        programs[l.name] = &l;
+        const bool known = std::any_of(net.lights.begin(), net.lights.end(), [&](const road::TrafficLight& x) { return x.name == l.name; });
+        if (!known) {
+            std::string names;
+            for (const auto& x : net.lights) names += (names.empty() ? "" : ", ") + x.name;
+            return where(l.loc) + ": the road has no traffic light '" + l.name + "' (its lights: " +
+                   (names.empty() ? "none" : names) + ")";
+        }
+    }
+    return "";
+}
+
+std::string World::place_agent(Agent& a) {
+    const std::string vwhere = where(a.v->loc) + ": vehicle '" + a.v->name + "'";
+    LaneId lane = kNoLane;
+    double s = 0;
+    const ir::Position& start = a.v->kind == ir::VehicleKind::trajectory && !a.v->trajectory.empty()
+                                    ? a.v->trajectory.front().position
+                                    : a.v->start;
+    if (auto e = locate(start, lane, s); !e.empty()) return vwhere + " starts off the road: " + e;
+    const auto& ref0 = net.reference(lane);
+    road::FrenetState f{s, a.v->speed, 0, start.offset, 0, 0};
+    if (start.xy) f = ref0.project({start.x, start.y});
+    f.s_d = a.v->speed;
+    place(a, ref0.to_cartesian(f));
+    a.yaw = start.xy && start.has_heading ? start.heading : ref0.heading(std::clamp(f.s, 0.0, ref0.length()));
+    a.lane = lane;
+    a.lane_s = f.s;
+    a.lane_d = f.d;
+    if (a.v->goal) {
+        LaneId gl = kNoLane;
+        double gs = 0;
+        if (auto e = locate(*a.v->goal, gl, gs); !e.empty()) {
+            return where(a.v->goal->loc) + ": the goal of vehicle '" + a.v->name + "' is off the road: " + e;
+        }
+        a.goal_lane = gl;
+        a.goal_s = gs;
+        auto route = road::shortest_route(net, lane, gl);
+        if (route.steps.empty()) {
+            return where(a.v->goal->loc) + ": the goal of vehicle '" + a.v->name + "' is unreachable: " + route.error;
+        }
+        a.route = route.steps;
+    }
+    if (a.v->kind == ir::VehicleKind::sdv) {
+        a.driver = std::make_unique<Driver>();
+        Driver& d = *a.driver;
+        d.tree = std::make_unique<bt::BehaviorTree>(&program.instances.at(static_cast<size_t>(a.v->tree)));
+        d.ref = build_path(net, a.route, d, lane);
+        if (!d.ref) return vwhere + ": cannot build a reference line from lane '" + net.lane(lane).name + "'";
+        // Initial plan: keep the start speed until the first plan takes over.
+        const road::FrenetState f0 = d.ref->to_frenet({a.x, a.vx, 0, a.y, a.vy, 0}, 0);
+        planner::Trajectory tr;
+        tr.s = planner::Poly::quadratic(f0.s, f0.s_d, 0);
+        tr.d = planner::Poly::quadratic(f0.d, 0, 0);
+        tr.duration = 1e6;
+        d.plan = ActivePlan{tr, 0.0, d.ref};
+    }
+    return "";
+}
+
+std::string World::init() {
+    dt = 1.0 / scenario.traffic_rate;
+    latency = scenario.planning_latency >= 0 ? scenario.planning_latency : 1.0 / scenario.planning_rate;
+    seed = options.seed.value_or(scenario.seed);
+    if (auto e = build_road(); !e.empty()) return e;
+    agents.resize(scenario.vehicles.size());
+    for (size_t i = 0; i < scenario.vehicles.size(); ++i) {
+        Agent& a = agents[i];
+        a.v = &scenario.vehicles[i];
+        a.index = static_cast<int>(i);
+        a.model = make_model(*a.v);
+        if (auto e = place_agent(a); !e.empty()) return e;
+    }
+    return "";
+}
+
+}  // namespace sdv::sim

@@ -1,0 +1,147 @@
+// The state of one run, shared by every stage of the loop: the road, the agents with their
+// state, and the snapshot that planning reads. An agent is its common state (pose, lane, goal)
+// plus a model that moves it (agents.h) and, for agents that plan, a driver (their behavior tree,
+// reference line and plans). The stages are functions over this state: advance (agents.h),
+// perceive (perception.h), tick the tree (leaves.h, conditions.cpp), plan (planning.h), ground
+// truth (ground_truth.h); loop.cpp runs them in order.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "runtime/bt/behavior_tree.h"
+#include "runtime/ir/ir.h"
+#include "runtime/planner/planner.h"
+#include "runtime/road/road_network.h"
+#include "runtime/road/routing.h"
+#include "runtime/sim/simulation.h"
+
+namespace sdv::sim {
+
+using road::kNoLane;
+using road::LaneId;
+
+// Bounds of the start accelerations of a plan: no vehicle accelerates beyond them (the
+// catalog's default max_long_acc and max_lat_acc).
+inline constexpr double kMaxStartAcc = 12.0;    // m/s²
+inline constexpr double kMaxStartLatAcc = 4.9;  // m/s²
+inline constexpr double kRestSpeed = 0.01;      // m/s: slower than this a vehicle is at rest
+
+// A plan in force: a Frenet trajectory in its own frame, from its start time.
+struct ActivePlan {
+    planner::Trajectory traj;
+    double start = 0;
+    std::shared_ptr<const road::ReferenceLine> ref;
+};
+
+// One agent in the snapshot: what every planner reads of it at t0 (immutable while planning).
+struct Snap {
+    double x = 0, y = 0, yaw = 0, vx = 0, vy = 0, speed = 0, accel = 0;
+    double length = 4.5, width = 1.8;
+    LaneId lane = kNoLane;
+    bool is_static = false;
+    double stopped_since = -1;
+    int32_t maneuver = -1;
+};
+
+// One planning cycle as the decision trace shows it (kept only with RunOptions::trace).
+struct PlanTrace {
+    struct Path {
+        const char* status = "";                // winner, feasible or the rejection cause
+        std::array<double, 12> xy{};            // 6 world points along the candidate
+    };
+    double time = 0;
+    uint32_t plan_number = 0;
+    std::vector<bt::Visit> visits;
+    std::string maneuver;       // the selected leaf's name
+    catalog::ManeuverKind kind = catalog::ManeuverKind::keep_velocity;
+    planner::PlanRecord record;
+    planner::FrenetState start;
+    std::vector<Path> paths;
+};
+
+// What an agent that plans owns: its tree, the reference line along its route, its plans.
+struct Driver {
+    std::unique_ptr<bt::BehaviorTree> tree;
+    std::vector<LaneId> path;
+    std::vector<double> path_start;  // s where each path lane starts on `ref`
+    std::shared_ptr<const road::ReferenceLine> ref;
+    double ref_s = -1;  // last projection on `ref` (search hint)
+    std::optional<ActivePlan> plan, pending;
+    int32_t maneuver = -1;  // selected node
+    std::string maneuver_name = "none";
+    LaneId target_lane = kNoLane;  // of a running lane change / cut-in
+    uint32_t plan_count = 0;
+    // `wait` timers: node index → (time first ticked, plan_count of the last tick).
+    std::map<int32_t, std::pair<double, uint32_t>> waits;
+    // Results of the last cycle (written by the planning thread, applied in vehicle order).
+    bool fallback = false;
+    int candidates = 0;
+    double plan_us = 0;
+    std::optional<PlanTrace> trace;
+};
+
+class AgentModel;
+
+struct Agent {
+    const ir::Vehicle* v = nullptr;
+    int index = 0;
+    // Cartesian state
+    double x = 0, y = 0, yaw = 0, vx = 0, vy = 0, ax = 0, ay = 0;
+    double speed = 0, accel = 0, prev_accel = 0;
+    // The lane under the agent and its coordinates on that lane.
+    LaneId lane = kNoLane;
+    double lane_s = 0, lane_d = 0;
+    double stopped_since = -1;
+    // Route and goal
+    std::vector<road::RouteStep> route;
+    LaneId goal_lane = kNoLane;
+    double goal_s = 0;
+    bool goal_reached = false;
+    double goal_dist = -1;  // along-track distance to the goal once within reach (< 0: not yet)
+    LaneId stopped_line = kNoLane;  // the lane at whose stop line the agent last came to a stop
+    double stopped_gap = 0;         // its front bumper's distance to that line then
+    std::shared_ptr<const AgentModel> model;
+    std::unique_ptr<Driver> driver;  // agents that plan (SDVs)
+};
+
+struct World {
+    World(const ir::Program& p, int scenario_index, const RunOptions& opt)
+        : program(p), scenario(p.scenarios.at(static_cast<size_t>(scenario_index))), options(opt) {}
+
+    const ir::Program& program;
+    const ir::Scenario& scenario;
+    RunOptions options;
+    road::RoadNetwork net;
+    std::vector<Agent> agents;
+    std::vector<Snap> snapshot;
+    double dt = 1.0 / 30;
+    double latency = 1.0 / 3;
+    uint64_t seed = 0;
+    std::map<std::string, const ir::LightProgram*> programs;  // by light name
+
+    // Builds the road and places every agent; returns a located error message, or "".
+    std::string init();
+    std::string light_state(int32_t light, double t) const;
+    // |goal s − own s| along the agent's path (or its lane); nullopt when the goal lane is not
+    // ahead on it.
+    std::optional<double> goal_distance(const Agent& a) const;
+    // A position of the IR as a lane and s on it; returns an error message, or "".
+    std::string locate(const ir::Position& pos, LaneId& lane, double& s) const;
+    std::string where(const ir::SourceLoc& loc) const;  // "file:line:col"
+
+private:
+    std::string build_road();
+    std::string place_agent(Agent& a);
+};
+
+// Fixed-point text of a number as every output writes it ("-0.0000" printed as "0.0000").
+std::string fmt(double v, int digits = 4);
+
+}  // namespace sdv::sim

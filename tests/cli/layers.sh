@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# The layer rule of docs/architecture.md, checked on the includes of every source file:
+#   runtime/ never includes compiler/ (the IR, runtime/ir, is the contract between them);
+#   runtime/catalog includes only itself; runtime/ir only the catalog;
+#   runtime/road and runtime/planner never include runtime/sim, runtime/bt or runtime/io;
+#   runtime/bt never includes runtime/sim or runtime/io; runtime/sim never includes runtime/io;
+#   cli/ is the only place that includes both compiler/ and runtime/io.
+# Usage: layers.sh REPO_ROOT
+set -u
+root=$1
+fail=0
+check() {  # check DIR PATTERN WHY
+    local hits
+    hits=$(grep -rnE "^#include \"($2)" "$root/$1" --include='*.h' --include='*.cpp' 2>/dev/null)
+    if [ -n "$hits" ]; then
+        echo "FAIL: $3"
+        echo "$hits" | sed "s|$root/||"
+        fail=1
+    fi
+}
+check runtime 'compiler/' "runtime/ includes compiler/"
+check runtime/catalog 'runtime/(ir|road|planner|bt|sim|io)/' "runtime/catalog includes a layer above it"
+check runtime/ir 'runtime/(road|planner|bt|sim|io)/' "runtime/ir includes a layer above it"
+check runtime/road 'runtime/(planner|bt|sim|io)/' "runtime/road includes a layer above it"
+check runtime/planner 'runtime/(road|bt|sim|io|ir)/' "runtime/planner includes a layer above it (it works in the Frenet frame only)"
+check runtime/bt 'runtime/(sim|io|planner|road)/' "runtime/bt includes a layer above it"
+check runtime/sim 'runtime/io/' "runtime/sim includes runtime/io (outputs are written by observers)"
+check compiler 'runtime/(sim|io|bt|planner)/' "compiler/ includes the simulation"
+# No file in runtime/sim above 400 lines: the loop stays in stages.
+for f in "$root"/runtime/sim/*.cpp "$root"/runtime/sim/*.h; do
+    n=$(wc -l < "$f")
+    if [ "$n" -gt 400 ]; then
+        echo "FAIL: ${f#$root/} has $n lines (limit 400)"
+        fail=1
+    fi
+done
+[ $fail -eq 0 ] && echo "layers respected"
+exit $fail
