@@ -1,0 +1,257 @@
+// Roads: `key value...` settings (duplicates, unknown keys, numbers with units and ranges, also
+// used by scenarios and vehicles), and the checks of built-in roads (lanes, segments, arc radii),
+// junctions (lanes, arms, control) and Lanelet2 maps (file, origin), each into an IR road.
+#include <algorithm>
+#include <set>
+
+#include "compiler/sema/checker_internal.h"
+
+namespace sdv::compiler::sema {
+
+std::optional<double> Checker::setting_number(const ast::Setting& s, size_t i, Dim dim, double lo,
+                                              double hi, bool lo_exclusive) {
+    if (i >= s.values.size()) return std::nullopt;
+    ParamDef def;
+    def.dim = dim;
+    def.min = lo;
+    def.max = hi;
+    def.min_exclusive = lo_exclusive;
+    Eval e = eval(s.values[i], nullptr, {ParamType::quantity, dim}, "'" + s.key.text + "'", &def);
+    if (e.kind != Eval::Kind::number) return std::nullopt;
+    if (e.ranged) {
+        error("E0205", s.values[i].range, "'" + s.key.text + "' cannot be a range");
+        return std::nullopt;
+    }
+    if (!check_range(e, def, "'" + s.key.text + "'")) return std::nullopt;
+    return e.num.value;
+}
+
+// Reads an optional numeric setting into `out`; false when it is present but invalid.
+bool Checker::read_setting(std::map<std::string, const ast::Setting*>& set, const char* key,
+                           Dim dim, double lo, double hi, bool lo_exclusive, double& out) {
+    const ast::Setting* s = set[key];
+    if (s == nullptr) return true;
+    if (auto v = setting_number(*s, 0, dim, lo, hi, lo_exclusive)) {
+        out = *v;
+        return true;
+    }
+    return false;
+}
+
+// Reports duplicate settings and returns the first occurrence of each key.
+std::map<std::string, const ast::Setting*> Checker::settings_map(
+    const std::vector<ast::Setting>& ss, const std::vector<std::string>& known,
+    const std::string& where) {
+    std::map<std::string, const ast::Setting*> out;
+    for (const auto& s : ss) {
+        if (!known.empty() && std::find(known.begin(), known.end(), s.key.text) == known.end()) {
+            auto* d = error("E0113", s.key.range, "unknown setting '" + s.key.text + "' in " + where);
+            add_suggestion(*d, s.key.text, known);
+            continue;
+        }
+        if (auto it = out.find(s.key.text); it != out.end()) {
+            auto* d = error("E0504", s.key.range, "duplicate '" + s.key.text + "' in " + where);
+            d->notes.push_back({it->second->range, "first given here"});
+            continue;
+        }
+        out[s.key.text] = &s;
+    }
+    return out;
+}
+
+void Checker::check_roads() {
+    for (const auto& r : road_decls_) {
+        RoadSym sym;
+        sym.unit = r.unit;
+        if (r.road != nullptr) {
+            sym.name = r.road->name.text;
+            sym.range = r.road->name.range;
+            check_builtin_road(*r.road, sym);
+        } else if (r.junction != nullptr) {
+            sym.name = r.junction->name.text;
+            sym.range = r.junction->name.range;
+            check_junction(*r.junction, sym);
+        } else {
+            sym.name = r.map->name.text;
+            sym.range = r.map->name.range;
+            check_map(*r.map, sym);
+        }
+        sym.road.name = sym.name;
+        sym.road.loc = loc(sym.range);
+        roads_.push_back(std::move(sym));
+    }
+}
+
+void Checker::check_builtin_road(const ast::RoadDecl& r, RoadSym& sym) {
+    ir::Road& road = sym.road;
+    road.kind = ir::RoadKind::road;
+    const std::string where = "road '" + r.name.text + "'";
+    if (r.lanes.empty()) {
+        auto* d = error("E0401", r.name.range, where + " does not say its lanes");
+        d->notes.push_back({{}, "add e.g. 'lanes 2 forward, 1 backward'"});
+        sym.ok = false;
+    }
+    road.lanes_forward = 0;
+    road.lanes_backward = 0;
+    std::set<std::string> dirs;
+    for (const auto& l : r.lanes) {
+        if (l.direction.text != "forward" && l.direction.text != "backward") {
+            auto* d = error("E0206", l.direction.range,
+                            "lane direction must be 'forward' or 'backward'");
+            add_suggestion(*d, l.direction.text, {"forward", "backward"});
+            sym.ok = false;
+            continue;
+        }
+        if (!dirs.insert(l.direction.text).second) {
+            error("E0504", l.direction.range, "'" + l.direction.text + "' lanes given twice");
+            sym.ok = false;
+            continue;
+        }
+        if (l.count < 0 || l.count > 8) {
+            auto* d = error("E0301", l.count_range, "lane count " + std::to_string(l.count) +
+                                                        " is out of range");
+            d->notes.push_back({{}, "allowed: 0 to 8 lanes per direction"});
+            sym.ok = false;
+            continue;
+        }
+        (l.direction.text == "forward" ? road.lanes_forward : road.lanes_backward) =
+            static_cast<int32_t>(l.count);
+    }
+    if (!r.lanes.empty() && road.lanes_forward + road.lanes_backward == 0 && sym.ok) {
+        error("E0301", r.lanes_range, where + " has no lanes");
+        sym.ok = false;
+    }
+    auto set = settings_map(r.settings, {"lane_width", "speed_limit", "origin", "heading"}, where);
+    sym.ok = read_setting(set, "lane_width", Dim::length, 1.0, 10.0, false, road.lane_width) && sym.ok;
+    sym.ok = read_setting(set, "speed_limit", Dim::speed, 0.0, 100.0, true, road.speed_limit) && sym.ok;
+    if (auto* s = set["origin"]) {
+        auto x = setting_number(*s, 0, Dim::length, -1e7, 1e7, false);
+        auto y = setting_number(*s, 1, Dim::length, -1e7, 1e7, false);
+        if (x && y) {
+            road.origin_x = *x;
+            road.origin_y = *y;
+        } else {
+            sym.ok = false;
+        }
+    }
+    sym.ok = read_setting(set, "heading", Dim::angle, -10.0, 10.0, false, road.heading) && sym.ok;
+    if (r.segments.empty()) {
+        auto* d = error("E0401", r.name.range, where + " has no segments");
+        d->notes.push_back({{}, "add e.g. 'straight 300 m'"});
+        sym.ok = false;
+    }
+    // The reference line runs between the directions: a left arc has the backward lanes on
+    // its inside, a right arc the forward lanes; the radius must exceed what lies inside.
+    const double inside_left = road.lane_width * road.lanes_backward + 0.5;
+    const double inside_right = road.lane_width * road.lanes_forward + 0.5;
+    for (const auto& seg : r.segments) {
+        ParamDef def;
+        def.dim = Dim::length;
+        def.min = 0;
+        def.min_exclusive = true;
+        def.max = 100000;
+        Eval len = eval(seg.length, nullptr, {ParamType::quantity, Dim::length},
+                        "the segment length", &def);
+        if (len.kind != Eval::Kind::number || !check_range(len, def, "the segment length")) {
+            sym.ok = false;
+            continue;
+        }
+        ir::Segment out;
+        out.arc = seg.arc;
+        out.length = len.num.value;
+        if (seg.arc) {
+            ParamDef rdef = def;
+            const bool right = seg.side && seg.side->text == "right";
+            rdef.min = right ? inside_right : inside_left;
+            rdef.min_exclusive = false;
+            rdef.max = 1e6;
+            Eval rad = eval(*seg.radius, nullptr, {ParamType::quantity, Dim::length},
+                            "the arc radius", &rdef);
+            if (rad.kind != Eval::Kind::number) {
+                sym.ok = false;
+                continue;
+            }
+            if (!check_range(rad, rdef, "the arc radius (it must exceed the width of the lanes on the inside of the turn)")) {
+                sym.ok = false;
+                continue;
+            }
+            out.radius = (seg.side && seg.side->text == "right") ? -rad.num.value : rad.num.value;
+        }
+        sym.length += out.length;
+        road.segments.push_back(out);
+    }
+}
+
+void Checker::check_junction(const ast::JunctionDecl& j, RoadSym& sym) {
+    ir::Road& road = sym.road;
+    road.kind = ir::RoadKind::junction;
+    road.control = "stop_signs";
+    const std::string where = "junction '" + j.name.text + "'";
+    auto set = settings_map(j.settings, {"lanes", "lane_width", "speed_limit", "arm_length", "control"},
+                            where);
+    if (auto* s = set["lanes"]) {
+        if (auto v = setting_number(*s, 0, Dim::none, 1, 4, false)) {
+            road.lanes_forward = static_cast<int32_t>(*v);
+        } else {
+            sym.ok = false;
+        }
+    }
+    sym.ok = read_setting(set, "lane_width", Dim::length, 1.0, 10.0, false, road.lane_width) && sym.ok;
+    sym.ok = read_setting(set, "speed_limit", Dim::speed, 0.0, 100.0, true, road.speed_limit) && sym.ok;
+    sym.ok = read_setting(set, "arm_length", Dim::length, 20.0, 10000.0, false, road.arm_length) && sym.ok;
+    if (auto* s = set["control"]) {
+        const std::string c = s->values[0].lo.name.str();
+        const std::vector<std::string> choices = {"stop_signs", "two_way_stops", "traffic_lights", "none"};
+        if (std::find(choices.begin(), choices.end(), c) == choices.end()) {
+            auto* d = error("E0206", s->values[0].range, "unknown junction control '" + c + "'");
+            add_suggestion(*d, c, choices);
+            d->notes.push_back({{}, "expected stop_signs, two_way_stops, traffic_lights or none"});
+            sym.ok = false;
+        } else {
+            road.control = c;
+        }
+    }
+    sym.length = road.arm_length;
+}
+
+void Checker::check_map(const ast::MapDecl& m, RoadSym& sym) {
+    ir::Road& road = sym.road;
+    road.kind = ir::RoadKind::lanelet2;
+    const std::string where = "map '" + m.name.text + "'";
+    auto set = settings_map(m.settings, {"file", "origin"}, where);
+    if (auto* s = set["file"]) {
+        fs::path p = s->values[0].lo.string;
+        if (p.is_relative() && !sym.unit->dir.empty()) p = sym.unit->dir / p;
+        std::error_code ec;
+        if (!fs::is_regular_file(p, ec)) {
+            error("E0510", s->values[0].range, "map file '" + s->values[0].lo.string +
+                                                   "' not found (looked at " + p.string() + ")");
+            sym.ok = false;
+        }
+        road.map_file = p.lexically_normal().string();
+    } else {
+        error("E0401", m.name.range, where + " needs a 'file \"path.osm\"'");
+        sym.ok = false;
+    }
+    if (auto* s = set["origin"]) {
+        if (s->values.size() < 2) {
+            error("E0401", s->range, "origin needs latitude and longitude");
+            sym.ok = false;
+        } else {
+            auto lat = setting_number(*s, 0, Dim::none, -90, 90, false);
+            auto lon = setting_number(*s, 1, Dim::none, -180, 180, false);
+            auto alt = s->values.size() > 2 ? setting_number(*s, 2, Dim::length, -1000, 10000, false)
+                                            : std::optional<double>(0.0);
+            if (lat && lon && alt) {
+                road.origin_lat = *lat;
+                road.origin_lon = *lon;
+                road.origin_alt = *alt;
+                road.has_origin = true;
+            } else {
+                sym.ok = false;
+            }
+        }
+    }
+}
+
+}  // namespace sdv::compiler::sema

@@ -1,0 +1,423 @@
+// Scenario checks: settings (road, timeout, seed, rates), vehicles (kind, size, start, goal,
+// route, tree, trajectory), positions and lane references on the scenario's road, start
+// overlaps, traffic light programs and expectations, each written into the IR scenario.
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+#include "compiler/sema/checker_internal.h"
+
+namespace sdv::compiler::sema {
+
+void Checker::check_scenario(const ast::ScenarioDecl& s, ir::Program& program) {
+    ir::Scenario sc;
+    sc.name = s.name.text;
+    sc.loc = loc(s.name.range);
+    ScenarioCtx ctx;
+    ctx.name = s.name.text;
+    const std::string where = "scenario '" + s.name.text + "'";
+    for (const auto& other : program.scenarios) {
+        if (other.name == sc.name) error("E0108", s.name.range, "duplicate scenario '" + sc.name + "'");
+    }
+    auto set = settings_map(s.settings,
+                            {"road", "timeout", "seed", "rate traffic", "rate planning",
+                             "rate latency", "rate sensor_range"},
+                            where);
+    // `rate X` keys carry the word after `rate`; unknown ones are reported by settings_map
+    // as "rate foo", so point at the word with a clearer message there.
+    if (auto* r = set["road"]) {
+        const std::string name = r->values[0].lo.name.str();
+        const RoadSym* found = nullptr;
+        for (const auto& rs : roads_) {
+            if (rs.name == name) found = &rs;
+        }
+        if (found == nullptr) {
+            std::vector<std::string> names;
+            for (const auto& rs : roads_) names.push_back(rs.name);
+            auto* d = error("E0109", r->values[0].range, "unknown road '" + name + "'");
+            add_suggestion(*d, name, names);
+        } else {
+            ctx.road = found;
+        }
+    } else {
+        auto* d = error("E0501", s.name.range, where + " has no road");
+        d->notes.push_back({{}, "add 'road NAME' naming a road, junction or map"});
+    }
+    read_setting(set, "timeout", Dim::time, 0, 86400, true, sc.timeout);
+    if (auto* t = set["seed"]) {
+        // Parsed from the text: a double would round seeds above 2^53.
+        const std::string& text = t->values[0].lo.quantity.text;
+        errno = 0;
+        sc.seed = std::strtoull(text.c_str(), nullptr, 10);
+        if (errno == ERANGE) {
+            error("E0301", t->values[0].range, "seed " + text + " is out of range")
+                ->notes.push_back({{}, "allowed: 0 to 18446744073709551615"});
+        }
+    }
+    read_setting(set, "rate traffic", Dim::frequency, 1, 1000, false, sc.traffic_rate);
+    read_setting(set, "rate planning", Dim::frequency, 0.1, 100, false, sc.planning_rate);
+    read_setting(set, "rate latency", Dim::time, 0, 10, false, sc.planning_latency);
+    read_setting(set, "rate sensor_range", Dim::length, 1, 10000, true, sc.sensor_range);
+    if (ctx.road != nullptr && ctx.road->ok) {
+        auto it = std::find_if(program.roads.begin(), program.roads.end(),
+                               [&](const ir::Road& r) { return r.name == ctx.road->name; });
+        if (it == program.roads.end()) {
+            sc.road = static_cast<int32_t>(program.roads.size());
+            program.roads.push_back(ctx.road->road);
+        } else {
+            sc.road = static_cast<int32_t>(it - program.roads.begin());
+        }
+    }
+    // Vehicle names first: trees and expectations refer to any of them.
+    for (const auto& v : s.vehicles) {
+        if (auto it = ctx.vehicle_index.find(v.name.text); it != ctx.vehicle_index.end()) {
+            auto* d = error("E0108", v.name.range, "duplicate vehicle '" + v.name.text + "'");
+            d->notes.push_back({s.vehicles[static_cast<size_t>(it->second)].name.range,
+                                "first declared here"});
+        }
+        ctx.vehicle_index.emplace(v.name.text, static_cast<int32_t>(ctx.vehicle_names.size()));
+        ctx.vehicle_names.push_back(v.name.text);
+        if (v.is_ego) {
+            if (ctx.ego >= 0) {
+                auto* d = error("E0507", v.name.range, where + " has more than one ego");
+                d->notes.push_back({s.vehicles[static_cast<size_t>(ctx.ego)].name.range,
+                                    "the ego is declared here"});
+            } else {
+                ctx.ego = static_cast<int32_t>(ctx.vehicle_names.size() - 1);
+            }
+        }
+    }
+    ctx.ir = &sc;
+    for (const auto& v : s.vehicles) sc.vehicles.push_back(check_vehicle(v, ctx, program));
+    check_overlaps(s, sc);
+    for (const auto& l : s.lights) check_light(l, ctx);
+    for (const auto& e : s.expects) sc.expect_roots.push_back(check_expr(*e, ctx));
+    program.scenarios.push_back(std::move(sc));
+}
+
+ir::Position Checker::check_position(const ast::Position& p, const ScenarioCtx& ctx,
+                                     const std::string& what) {
+    ir::Position out;
+    out.loc = loc(p.range);
+    auto num = [&](const ast::Value& v, Dim dim, const std::string& w, double lo, double hi) -> double {
+        ParamDef def;
+        def.dim = dim;
+        def.min = lo;
+        def.max = hi;
+        Eval e = eval(v, nullptr, {ParamType::quantity, dim}, w, &def);
+        if (e.kind == Eval::Kind::number) {
+            if (e.ranged) error("E0205", v.range, w + " cannot be a range");
+            check_range(e, def, w);
+            return e.num.value;
+        }
+        return 0.0;
+    };
+    if (p.xy) {
+        out.xy = true;
+        out.x = num(*p.x, Dim::length, "x", -1e7, 1e7);
+        out.y = num(*p.y, Dim::length, "y", -1e7, 1e7);
+        if (p.heading) {
+            out.heading = num(*p.heading, Dim::angle, "the heading", -10, 10);
+            out.has_heading = true;
+        }
+        return out;
+    }
+    out.s = num(*p.s, Dim::length, "the position along the lane", -1e6, 1e6);
+    if (p.offset) out.offset = num(*p.offset, Dim::length, "the lateral offset", -20, 20);
+    out.lane = resolve_lane(p.lane, ctx, what);
+    if (ctx.road != nullptr && ctx.road->ok && ctx.road->road.kind == ir::RoadKind::road &&
+        !out.lane.empty()) {
+        if (out.s < 0 || out.s > ctx.road->length) {
+            auto* d = error("E0503", p.s->range,
+                            what + " is off the road: s = " + fmt(out.s) + " m");
+            d->notes.push_back({ctx.road->range, "road '" + ctx.road->name + "' is " +
+                                                     fmt(ctx.road->length) + " m long"});
+        }
+        if (std::fabs(out.offset) > ctx.road->road.lane_width * 0.5 + 1e-9 && p.offset) {
+            error("E0503", p.offset->range, what + " is outside its lane: the offset exceeds "
+                                                   "half the lane width");
+        }
+    }
+    return out;
+}
+
+// Lane references: built-in roads use indices (1.. forward, -1.. backward) and are named
+// "<road>.<index>"; junction and map lanes are named and checked when the road loads.
+std::string Checker::resolve_lane(const ast::LaneRef& l, const ScenarioCtx& ctx,
+                                  const std::string& what) {
+    if (ctx.road == nullptr) return "";
+    const ir::Road& r = ctx.road->road;
+    if (r.kind == ir::RoadKind::road) {
+        if (l.kind != ast::LaneRef::Kind::index) {
+            auto* d = error("E0106", l.range, "unknown lane '" + l.str() + "' for " + what);
+            d->notes.push_back({{}, "lanes of a built-in road are numbered: 1 is the "
+                                    "right-most forward lane, -1 the first backward lane"});
+            return "";
+        }
+        const bool ok = (l.index >= 1 && l.index <= r.lanes_forward) ||
+                        (l.index <= -1 && -l.index <= r.lanes_backward);
+        if (!ok) {
+            auto* d = error("E0303", l.range, "lane " + std::to_string(l.index) +
+                                                  " does not exist on road '" + r.name + "'");
+            std::string lanes = r.lanes_forward > 0 ? "1.." + std::to_string(r.lanes_forward) : "";
+            if (r.lanes_backward > 0) {
+                lanes += (lanes.empty() ? "" : " and ") + std::string("-1..-") +
+                         std::to_string(r.lanes_backward);
+            }
+            d->notes.push_back({ctx.road->range, "its lanes are " + lanes});
+            return "";
+        }
+        return r.name + "." + std::to_string(l.index);
+    }
+    if (r.kind == ir::RoadKind::junction) {
+        if (l.kind == ast::LaneRef::Kind::index) {
+            auto* d = error("E0106", l.range, "junction lanes are named, not numbered");
+            d->notes.push_back({{}, "e.g. 'lane south.in' or 'lane south_to_west'"});
+            return "";
+        }
+        return r.name + "." + (l.kind == ast::LaneRef::Kind::name ? l.name.str() : l.string);
+    }
+    return l.kind == ast::LaneRef::Kind::string ? l.string
+           : l.kind == ast::LaneRef::Kind::name ? l.name.str()
+                                                : std::to_string(l.index);
+}
+
+ir::Vehicle Checker::check_vehicle(const ast::VehicleDecl& v, ScenarioCtx& ctx,
+                                   ir::Program& program) {
+    ir::Vehicle out;
+    out.name = v.name.text;
+    out.is_ego = v.is_ego;
+    out.loc = loc(v.name.range);
+    const std::string what = "vehicle '" + v.name.text + "'";
+    const std::vector<std::string> kinds =
+        v.is_ego ? std::vector<std::string>{"sdv", "trajectory", "external"}
+                 : std::vector<std::string>{"sdv", "trajectory", "static"};
+    const std::string kind = v.kind.text;
+    if (kind == "sdv") out.kind = ir::VehicleKind::sdv;
+    else if (kind == "trajectory") out.kind = ir::VehicleKind::trajectory;
+    else if (kind == "static") out.kind = ir::VehicleKind::static_object;
+    else if (kind == "external") out.kind = ir::VehicleKind::external;
+    if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) {
+        auto* d = error("E0113", v.kind.range, "unknown vehicle kind '" + kind + "'");
+        add_suggestion(*d, kind, kinds);
+        std::string list;
+        for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
+        d->notes.push_back({{}, std::string(v.is_ego ? "the ego" : "a vehicle") + " is one of: " + list});
+    }
+    if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) return out;
+    if (out.kind == ir::VehicleKind::external) {
+        auto* d = error("E0113", v.kind.range, "external egos (co-simulation) are not supported yet");
+        d->notes.push_back({{}, "use 'sdv' (a placeholder driven by a tree) or 'trajectory'"});
+    }
+    auto set = settings_map(v.settings, {"speed", "length", "width"}, what);
+    ParamDef def;
+    auto num = [&](const ast::Setting* s, Dim dim, double lo, double hi, bool excl, double fallback) {
+        if (s == nullptr) return fallback;
+        auto r = setting_number(*s, 0, dim, lo, hi, excl);
+        return r.value_or(fallback);
+    };
+    out.speed = num(set["speed"], Dim::speed, 0, 100, false, 0.0);
+    out.length = num(set["length"], Dim::length, 0, 30, true, 4.5);
+    out.width = num(set["width"], Dim::length, 0, 5, true, 1.8);
+    if (v.is_object) {
+        out.length = num(set["length"], Dim::length, 0, 100, true, 4.5);
+    }
+    for (size_t i = 1; i < v.starts.size(); ++i) {
+        error("E0504", v.starts[i].range, "duplicate 'start' of " + what);
+    }
+    for (size_t i = 1; i < v.goals.size(); ++i) {
+        error("E0504", v.goals[i].range, "duplicate 'goal' of " + what);
+    }
+    for (size_t i = 1; i < v.routes.size(); ++i) {
+        error("E0504", v.routes[i].front().range, "duplicate 'route' of " + what);
+    }
+    for (size_t i = 1; i < v.trees.size(); ++i) {
+        error("E0504", v.trees[i].range, "duplicate 'tree' of " + what);
+    }
+    if (!v.starts.empty()) {
+        out.start = check_position(v.starts[0], ctx, "the start of " + what);
+    } else if (out.kind != ir::VehicleKind::trajectory) {
+        auto* d = error("E0506", v.name.range, what + " has no start position");
+        d->notes.push_back({{}, "add e.g. 'start lane 1 at 20 m'"});
+    }
+    if (!v.goals.empty()) out.goal = check_position(v.goals[0], ctx, "the goal of " + what);
+    out.goal_ends_run = v.goal_ends_run && !v.goals.empty();
+    if (!v.routes.empty()) {
+        for (const auto& l : v.routes[0]) out.route.push_back(resolve_lane(l, ctx, "the route of " + what));
+    }
+    if (out.kind == ir::VehicleKind::sdv) {
+        if (v.trees.empty()) {
+            auto* d = error("E0505", v.name.range, what + " is an sdv but has no tree");
+            d->notes.push_back({{}, "add e.g. 'tree std.drive()' (import \"std/drive.sdv\")"});
+        } else {
+            out.tree = expand_vehicle_tree(v.trees[0], ctx, program);
+        }
+    } else if (!v.trees.empty()) {
+        error("E0113", v.trees[0].range, "only sdv vehicles have trees; " + what + " is " + kind);
+    }
+    if (out.kind == ir::VehicleKind::trajectory) {
+        if (v.trajectories.empty() || v.trajectories[0].size() < 2) {
+            auto* d = error("E0506", v.name.range, what + " needs a trajectory with at least two waypoints");
+            d->notes.push_back({{}, "trajectory { 0 s: lane 1 at 10 m  5 s: lane 1 at 80 m }"});
+        } else {
+            double last = -1;
+            for (const auto& w : v.trajectories[0]) {
+                ir::Waypoint wp;
+                ParamDef tdef;
+                tdef.dim = Dim::time;
+                tdef.min = 0;
+                tdef.max = 86400;
+                Eval t = eval(w.time, nullptr, {ParamType::quantity, Dim::time}, "the waypoint time", &tdef);
+                if (t.kind == Eval::Kind::number) {
+                    check_range(t, tdef, "the waypoint time");
+                    wp.time = t.num.value;
+                    if (wp.time <= last) {
+                        error("E0301", w.time.range, "waypoint times must increase");
+                    }
+                    last = wp.time;
+                }
+                wp.position = check_position(w.position, ctx, "a waypoint of " + what);
+                if (w.speed) {
+                    ParamDef sdef;
+                    sdef.dim = Dim::speed;
+                    sdef.min = 0;
+                    sdef.max = 100;
+                    Eval sp = eval(*w.speed, nullptr, {ParamType::quantity, Dim::speed}, "the waypoint speed", &sdef);
+                    if (sp.kind == Eval::Kind::number && check_range(sp, sdef, "the waypoint speed")) {
+                        wp.speed = sp.num.value;
+                    }
+                }
+                out.trajectory.push_back(wp);
+            }
+            if (v.starts.empty()) out.start = out.trajectory.front().position;
+        }
+    } else if (!v.trajectories.empty()) {
+        error("E0113", v.name.range, "only trajectory vehicles have a trajectory");
+    }
+    return out;
+}
+
+void Checker::check_overlaps(const ast::ScenarioDecl& s, const ir::Scenario& sc) {
+    for (size_t i = 0; i < sc.vehicles.size(); ++i) {
+        for (size_t j = i + 1; j < sc.vehicles.size(); ++j) {
+            const auto& a = sc.vehicles[i];
+            const auto& b = sc.vehicles[j];
+            if (a.start.xy || b.start.xy || a.start.lane.empty() || a.start.lane != b.start.lane) {
+                continue;
+            }
+            const double gap = std::fabs(a.start.s - b.start.s) - 0.5 * (a.length + b.length);
+            const double lat = std::fabs(a.start.offset - b.start.offset) - 0.5 * (a.width + b.width);
+            if (gap < 0 && lat < 0) {
+                auto* d = error("E0502", s.vehicles[j].starts.empty() ? s.vehicles[j].name.range
+                                                                      : s.vehicles[j].starts[0].range,
+                                "vehicles '" + b.name + "' and '" + a.name + "' start overlapped");
+                d->notes.push_back({s.vehicles[i].starts.empty() ? s.vehicles[i].name.range
+                                                                 : s.vehicles[i].starts[0].range,
+                                    "'" + a.name + "' starts here"});
+            }
+        }
+    }
+}
+
+void Checker::check_light(const ast::LightDecl& l, ScenarioCtx& ctx) {
+    ir::LightProgram out;
+    out.name = l.name.str();
+    out.loc = loc(l.range);
+    if (ctx.road != nullptr && ctx.road->road.kind == ir::RoadKind::road) {
+        error("E0106", l.name.range, "road '" + ctx.road->name + "' has no traffic lights");
+    } else if (ctx.road != nullptr && ctx.road->road.kind == ir::RoadKind::junction) {
+        const std::vector<std::string> names = {ctx.road->name + ".ns", ctx.road->name + ".ew"};
+        if (ctx.road->road.control != "traffic_lights") {
+            error("E0106", l.name.range, "junction '" + ctx.road->name + "' has no traffic lights (control " +
+                                              ctx.road->road.control + ")");
+        } else if (std::find(names.begin(), names.end(), out.name) == names.end()) {
+            auto* d = error("E0106", l.name.range, "unknown traffic light '" + out.name + "'");
+            add_suggestion(*d, out.name, names);
+            d->notes.push_back({{}, "the junction's lights are " + names[0] + " and " + names[1]});
+        }
+    }
+    for (const auto& ph : l.phases) {
+        const std::string st = ph.key.text;
+        if (st != "red" && st != "yellow" && st != "green") {
+            auto* d = error("E0206", ph.key.range, "unknown light state '" + st + "'");
+            add_suggestion(*d, st, {"red", "yellow", "green"});
+            continue;
+        }
+        if (auto v = setting_number(ph, 0, Dim::time, 0, 86400, true)) out.phases.push_back({st, *v});
+    }
+    if (l.phases.empty()) error("E0401", l.name.range, "light program without phases");
+    if (l.offset) {
+        ParamDef def;
+        def.dim = Dim::time;
+        def.min = 0;
+        def.max = 86400;
+        Eval e = eval(*l.offset, nullptr, {ParamType::quantity, Dim::time}, "the offset", &def);
+        if (e.kind == Eval::Kind::number && check_range(e, def, "the offset")) out.offset = e.num.value;
+    }
+    ctx.ir->lights.push_back(std::move(out));
+}
+
+int32_t Checker::check_expr(const ast::Expr& e, ScenarioCtx& ctx) {
+    ir::Expect out;
+    out.loc = loc(e.range);
+    out.text = std::string(sm_.contents(e.range.begin.file)
+                               .substr(e.range.begin.offset, e.range.end.offset - e.range.begin.offset));
+    switch (e.kind) {
+        case ast::Expr::Kind::not_: out.kind = ir::Expect::Kind::not_; break;
+        case ast::Expr::Kind::and_: out.kind = ir::Expect::Kind::and_; break;
+        case ast::Expr::Kind::or_: out.kind = ir::Expect::Kind::or_; break;
+        case ast::Expr::Kind::call: out.kind = ir::Expect::Kind::call; break;
+    }
+    if (e.lhs) out.lhs = check_expr(*e.lhs, ctx);
+    if (e.rhs) out.rhs = check_expr(*e.rhs, ctx);
+    if (e.kind == ast::Expr::Kind::call) {
+        const auto* f = catalog::find_expectation(e.function.text);
+        if (f == nullptr) {
+            std::vector<std::string> names;
+            for (const auto& x : catalog::expectations()) names.push_back(x.name);
+            auto* d = error("E0111", e.function.range, "unknown expectation '" + e.function.text + "'");
+            add_suggestion(*d, e.function.text, names);
+        } else {
+            out.function = static_cast<int32_t>(f->kind);
+            const int n = static_cast<int>(e.args.size());
+            if (n < f->min_vehicles || n > f->max_vehicles) {
+                error("E0508", e.function.range,
+                      "'" + f->name + "' takes " +
+                          (f->min_vehicles == f->max_vehicles
+                               ? std::to_string(f->min_vehicles)
+                               : std::to_string(f->min_vehicles) + " to " + std::to_string(f->max_vehicles)) +
+                          " vehicle(s), found " + std::to_string(n));
+            }
+            for (const auto& a : e.args) {
+                auto it = ctx.vehicle_index.find(a.text);
+                if (it == ctx.vehicle_index.end()) {
+                    auto* d = error("E0105", a.range, "unknown vehicle '" + a.text + "' in scenario '" +
+                                                          ctx.name + "'");
+                    add_suggestion(*d, a.text, ctx.vehicle_names);
+                } else {
+                    out.vehicles.push_back(it->second);
+                }
+            }
+            if (f->boolean && !e.cmp.empty()) {
+                error("E0204", e.bound->range, "'" + f->name + "' is true or false; it takes no comparison");
+            } else if (!f->boolean && e.cmp.empty()) {
+                auto* d = error("E0204", e.function.range,
+                                "'" + f->name + "' is " + dim_phrase(f->result) + "; compare it");
+                d->notes.push_back({{}, "e.g. " + f->name + "(...) < " +
+                                        (f->result == Dim::time ? "2 s" : f->result == Dim::length ? "1 m" : "5")});
+            } else if (!f->boolean) {
+                out.cmp = e.cmp;
+                Eval b = eval(*e.bound, nullptr, {ParamType::quantity, f->result}, "the bound of '" + f->name + "'", nullptr);
+                if (b.kind == Eval::Kind::number) {
+                    if (b.ranged) error("E0205", e.bound->range, "the bound cannot be a range");
+                    out.bound = b.num.value;
+                }
+            }
+        }
+    }
+    ctx.ir->expects.push_back(std::move(out));
+    return static_cast<int32_t>(ctx.ir->expects.size() - 1);
+}
+
+}  // namespace sdv::compiler::sema
