@@ -15,9 +15,10 @@ void Recorder::start(const sim::World& w) {
 
 void Recorder::tick(const sim::World& w, int tick, double t) {
     for (const sim::Agent& a : w.agents) {
+        if (!a.active) continue;
         csv_ << fmt(t) << "," << tick << "," << a.v->name << "," << a.model->kind() << "," << fmt(a.x) << "," << fmt(a.y) << ","
              << fmt(a.yaw) << "," << fmt(a.speed) << "," << fmt(a.accel) << "," << fmt(a.lane_s) << "," << fmt(a.lane_d) << ","
-             << (a.lane != sim::kNoLane ? w.net.lane(a.lane).name : "") << "," << (a.driver ? a.driver->maneuver_name : "") << "\n";
+             << (a.centre_lane != sim::kNoLane ? w.net.lane(a.centre_lane).name : "") << "," << (a.driver ? a.driver->maneuver_name : "") << "\n";
     }
 }
 

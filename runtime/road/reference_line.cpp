@@ -106,6 +106,17 @@ std::optional<ReferenceLine> ReferenceLine::build(std::span<const Vec2> points, 
         line.dkappa_[i] = ds > 0 ? (line.kappa_[i + 1] - line.kappa_[i]) / ds : 0.0;
     }
     line.dkappa_[n - 1] = line.dkappa_[n - 2];
+    for (size_t first = 0; first + 1 < n; first += kChunk) {
+        Chunk c;
+        c.first = first;
+        c.last = std::min(n - 1, first + kChunk);
+        c.min = c.max = {line.x_[first], line.y_[first]};
+        for (size_t k = first; k <= c.last; ++k) {
+            c.min = {std::min(c.min.x, line.x_[k]), std::min(c.min.y, line.y_[k])};
+            c.max = {std::max(c.max.x, line.x_[k]), std::max(c.max.y, line.y_[k])};
+        }
+        line.chunks_.push_back(c);
+    }
     return line;
 }
 
@@ -138,61 +149,101 @@ Vec2 ReferenceLine::point(double s) const { return at(s).p; }
 double ReferenceLine::heading(double s) const { return at(s).theta; }
 double ReferenceLine::curvature(double s) const { return at(s).kappa; }
 
-FrenetState ReferenceLine::project(Vec2 p, double hint) const {
-    // 1. the nearest sample (in a window around the hint, else globally);
-    auto d2_at = [&](size_t i) {
-        const double dx = p.x - x_[i], dy = p.y - y_[i];
+namespace {
+
+// Squared distance from p to the segment [a, b], and the parameter of the foot in [0, 1].
+double segment_d2(Vec2 p, Vec2 a, Vec2 b, double& t) {
+    const double ex = b.x - a.x, ey = b.y - a.y;
+    const double len2 = ex * ex + ey * ey;
+    t = len2 > 0 ? std::clamp(((p.x - a.x) * ex + (p.y - a.y) * ey) / len2, 0.0, 1.0) : 0.0;
+    const double dx = p.x - (a.x + t * ex), dy = p.y - (a.y + t * ey);
+    return dx * dx + dy * dy;
+}
+
+}  // namespace
+
+ReferenceLine::Foot ReferenceLine::nearest_in(Vec2 p, size_t first, size_t last) const {
+    Foot best;
+    for (size_t i = first; i < last; ++i) {
+        double t = 0;
+        const double d2 = segment_d2(p, {x_[i], y_[i]}, {x_[i + 1], y_[i + 1]}, t);
+        if (d2 < best.d2) best = {i, t, d2};
+    }
+    return best;
+}
+
+ReferenceLine::Foot ReferenceLine::nearest_global(Vec2 p) const {
+    // Chunks of samples with bounding boxes: a chunk can hold the nearest point only if its box
+    // is nearer than the best point found so far. Exact, and a few chunks are scanned in full.
+    auto box_d2 = [&](const Chunk& c) {
+        const double dx = std::max({c.min.x - p.x, 0.0, p.x - c.max.x});
+        const double dy = std::max({c.min.y - p.y, 0.0, p.y - c.max.y});
         return dx * dx + dy * dy;
     };
-    size_t centre = 0;
-    if (hint >= 0) {
-        centre = segment(hint);
-    } else {
-        // Coarse to fine: every 16th sample (4 m at the default spacing), then the neighbourhood.
-        constexpr size_t kStride = 16;
-        double best_coarse = INFINITY;
-        for (size_t i = 0; i < s_.size(); i += kStride) {
-            if (const double d2 = d2_at(i); d2 < best_coarse) {
-                best_coarse = d2;
-                centre = i;
-            }
-        }
-        if (const double d2 = d2_at(s_.size() - 1); d2 < best_coarse) centre = s_.size() - 1;
-    }
-    constexpr size_t kWindow = 48;  // samples: 12 m at 0.25 m spacing
-    const size_t lo = centre > kWindow ? centre - kWindow : 0;
-    const size_t hi = std::min(s_.size() - 1, centre + kWindow);
-    size_t best = lo;
-    double best_d2 = INFINITY;
-    for (size_t i = lo; i <= hi; ++i) {
-        const double dx = p.x - x_[i], dy = p.y - y_[i];
-        const double d2 = dx * dx + dy * dy;
-        if (d2 < best_d2) {
-            best_d2 = d2;
-            best = i;
+    size_t start = 0;
+    double start_d2 = INFINITY;
+    for (size_t k = 0; k < chunks_.size(); ++k) {
+        if (const double d2 = box_d2(chunks_[k]); d2 < start_d2) {
+            start_d2 = d2;
+            start = k;
         }
     }
-    // 2. solve g(s) = (p − P(s))·T(s) = 0 near it (Newton with bisection safeguard; g is
-    //    decreasing in s near the curve).
+    Foot best = nearest_in(p, chunks_[start].first, chunks_[start].last);
+    for (size_t k = 0; k < chunks_.size(); ++k) {
+        if (k == start || box_d2(chunks_[k]) >= best.d2) continue;
+        const Foot f = nearest_in(p, chunks_[k].first, chunks_[k].last);
+        if (f.d2 < best.d2) best = f;
+    }
+    return best;
+}
+
+FrenetState ReferenceLine::project(Vec2 p, double hint) const {
+    // 1. The nearest point of the sampled polyline: near the hint when the hint's window holds a
+    //    proper local minimum close to the line (continuity where a route comes back near
+    //    itself), else over the whole line.
+    const size_t segments = s_.size() - 1;
+    Foot foot;
+    bool found = false;
+    if (hint >= 0 && std::isfinite(hint)) {
+        constexpr size_t kWindow = 48;       // samples each side: 12 m at 0.25 m spacing
+        constexpr double kReach2 = 8.0 * 8;  // m²: beyond this lateral distance, search globally
+        const size_t centre = segment(hint);
+        const size_t lo = centre > kWindow ? centre - kWindow : 0;
+        const size_t hi = std::min(segments, centre + kWindow + 1);
+        foot = nearest_in(p, lo, hi);
+        const bool at_low_edge = foot.segment == lo && foot.t == 0.0 && lo > 0;
+        const bool at_high_edge = foot.segment + 1 == hi && foot.t == 1.0 && hi < segments;
+        found = !at_low_edge && !at_high_edge && foot.d2 <= kReach2;
+    }
+    if (!found) foot = nearest_global(p);
+    // 2. Solve g(s) = (p − P(s))·T(s) = 0 near that point, on the same interpolation that
+    //    to_cartesian uses (so that round trips are exact): bisection on a bracket where g goes
+    //    from positive to negative, widened a few segments at a time.
     auto g = [&](double s) {
         const Interp r = at(s);
         return (p.x - r.p.x) * std::cos(r.theta) + (p.y - r.p.y) * std::sin(r.theta);
     };
-    double a = best > 0 ? s_[best - 1] : s_.front() - 1e3;
-    double b = best + 1 < s_.size() ? s_[best + 1] : s_.back() + 1e3;
-    double ga = g(a), gb = g(b);
-    double s = s_[best];
-    if (ga >= 0 && gb <= 0) {
-        for (int it = 0; it < 60 && b - a > 1e-12; ++it) {
-            s = 0.5 * (a + b);
-            const double gs = g(s);
-            if (gs > 0) a = s;
-            else b = s;
+    const size_t i = foot.segment;
+    double s = s_[i] + foot.t * (s_[i + 1] - s_[i]);
+    bool solved = false;
+    for (size_t widen = 1; widen <= 4 && !solved; widen *= 2) {
+        const size_t ia = i > widen - 1 ? i - (widen - 1) : 0;
+        const size_t ib = std::min(segments, i + widen);
+        double a = s_[ia], b = s_[ib];
+        // Beyond the ends the line continues straight along its end tangents.
+        if (ia == 0 && g(a) < 0) a = s_.front() - 1e4;
+        if (ib == segments && g(b) > 0) b = s_.back() + 1e4;
+        const double ga = g(a), gb = g(b);
+        if (!(ga >= 0 && gb <= 0)) continue;
+        for (int it = 0; it < 100 && b - a > 1e-10; ++it) {
+            const double m = 0.5 * (a + b);
+            if (g(m) > 0) a = m;
+            else b = m;
         }
         s = 0.5 * (a + b);
-    } else {
-        s = s_[best] + g(s_[best]);  // at a joint of the normal fan: closest sample's projection
+        solved = true;
     }
+    // Unsolved (p beyond the centre of curvature of a tight bend): the polyline's nearest point.
     const Interp r = at(s);
     FrenetState f;
     f.s = s;

@@ -10,6 +10,7 @@
 //   r̈ = [s̈(1 − κd) − κ'ṡ²d − 2κṡḋ] T + [κṡ²(1 − κd) + d̈] N
 #pragma once
 
+#include <cmath>
 #include <optional>
 #include <span>
 #include <string>
@@ -41,9 +42,11 @@ public:
     double heading(double s) const;
     double curvature(double s) const;
 
-    // Position only. `hint`: an s near the answer (continuity along routes that come back near
-    // themselves); negative: global search. Points beyond the ends extrapolate along the end
-    // tangents (s < 0 or s > length).
+    // Position only: the s whose normal passes through p, nearest to p. `hint`: an s near the
+    // answer (continuity along routes that come back near themselves): the answer near the hint
+    // when p is within 8 m of the line there and its nearest point lies inside a ±12 m window
+    // around the hint; otherwise (and for a negative hint) the nearest point over the whole line.
+    // Only points beyond the ends extrapolate, along the end tangents (s < 0 or s > length).
     FrenetState project(Vec2 p, double hint = -1) const;
     FrenetState to_frenet(const CartesianState& c, double hint = -1) const;
     CartesianState to_cartesian(const FrenetState& f) const;
@@ -53,10 +56,26 @@ private:
         Vec2 p;
         double theta, kappa, dkappa;
     };
+    // The nearest point of the sampled polyline: its segment, the foot's parameter on it and the
+    // squared distance.
+    struct Foot {
+        size_t segment = 0;
+        double t = 0, d2 = INFINITY;
+    };
+    // Samples in chunks with bounding boxes, for the global search.
+    struct Chunk {
+        size_t first = 0, last = 0;  // sample indices (segments first..last-1)
+        Vec2 min, max;
+    };
+    static constexpr size_t kChunk = 16;
+
     Interp at(double s) const;
     size_t segment(double s) const;
+    Foot nearest_in(Vec2 p, size_t first_segment, size_t end_segment) const;
+    Foot nearest_global(Vec2 p) const;
 
     std::vector<double> s_, x_, y_, theta_, kappa_, dkappa_;
+    std::vector<Chunk> chunks_;
 };
 
 }  // namespace sdv::road

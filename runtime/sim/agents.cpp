@@ -23,7 +23,7 @@ public:
         }
         const planner::FrenetState f = d.plan->traj.at(t - d.plan->start);
         place(a, d.plan->ref->to_cartesian({f.s, f.s_d, f.s_dd, f.d, f.d_d, f.d_dd}), d.plan->ref->heading(f.s));
-        const auto probe = d.ref->project({a.x, a.y}, std::max(0.0, d.ref_s));
+        const auto probe = d.ref->project({a.x, a.y}, d.ref_s);
         d.ref_s = probe.s;
         for (size_t i = 0; i < d.path.size(); ++i) {
             if (probe.s + 1e-9 >= d.path_start[i]) {
@@ -32,6 +32,10 @@ public:
                 a.lane_d = probe.d;
             }
         }
+        const road::Lane& l = w.net.lane(a.lane);
+        // Past the end of the last lane of its path, where no lane follows: off the network.
+        a.past_road_end = a.lane == d.path.back() && l.successors.empty() && a.lane_s > l.length;
+        a.centre_lane = a.past_road_end ? kNoLane : centre_lane(w.net, a.lane, a.lane_d);
     }
 
 private:
@@ -45,6 +49,7 @@ void localise(const World& w, Agent& a, bool relocate) {
         const auto f = w.net.reference(a.lane).project({a.x, a.y});
         a.lane_s = f.s;
         a.lane_d = f.d;
+        a.centre_lane = f.s >= 0 && f.s <= w.net.lane(a.lane).length ? centre_lane(w.net, a.lane, a.lane_d) : kNoLane;
     }
 }
 
@@ -116,6 +121,16 @@ std::shared_ptr<const AgentModel> make_model(const ir::Vehicle& v) {
         case ir::VehicleKind::external: return std::make_shared<ExternalModel>();
     }
     return std::make_shared<StaticModel>();
+}
+
+LaneId centre_lane(const road::RoadNetwork& net, LaneId lane, double d) {
+    const road::Lane& l = net.lane(lane);
+    const double half = 0.5 * l.width;
+    if (std::fabs(d) <= half) return lane;
+    const LaneId side = d > 0 ? l.left : l.right;
+    if (side == kNoLane) return kNoLane;
+    // The neighbour's band, next to this lane's edge.
+    return std::fabs(d) <= half + net.lane(side).width ? side : kNoLane;
 }
 
 void place(Agent& a, const road::CartesianState& c, std::optional<double> lane_heading) {

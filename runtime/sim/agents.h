@@ -24,6 +24,10 @@ public:
 // The model of an IR vehicle by its kind.
 std::shared_ptr<const AgentModel> make_model(const ir::Vehicle& v);
 
+// The lane whose band holds a point at lateral offset d from the centre of `lane`: the lane
+// itself, its left or right neighbour (either direction), or kNoLane (off every lane).
+LaneId centre_lane(const road::RoadNetwork& net, LaneId lane, double d);
+
 // Sets an agent's pose from a Cartesian state: heading from the velocity (kept within a
 // steering angle's reach of `lane_heading` when given), signed speed (negative in reverse) and
 // longitudinal acceleration.

@@ -27,6 +27,7 @@ void GroundTruth::observe(World& w, double t, int tick) {
     size_t pi = 0;
     for (size_t i = 0; i < n; ++i) {
         for (size_t j = i + 1; j < n; ++j, ++pi) {
+            if (!agents[i].active || !agents[j].active) continue;
             PairMetrics& m = out_.pairs[pi];
             // The exact box distance only when it could matter: a lower bound from the
             // centres and the half diagonals first.
@@ -58,7 +59,12 @@ void GroundTruth::observe(World& w, double t, int tick) {
     }
     for (size_t i = 0; i < n; ++i) {
         Agent& a = agents[i];
+        if (!a.active) continue;
         VehicleMetrics& vm = out_.vehicles[i];
+        // The centre off every lane: one event per episode.
+        const bool off = a.centre_lane == kNoLane;
+        if (off && !a.off_lanes) out_.events.push_back({t, "off_road", {static_cast<int>(i)}, 0, ""});
+        a.off_lanes = off;
         vm.max_speed = std::max(vm.max_speed, std::fabs(a.speed));
         vm.max_acc = std::max(vm.max_acc, std::fabs(a.accel));
         if (tick > 0) vm.max_jerk = std::max(vm.max_jerk, std::fabs(a.accel - a.prev_accel) / w.dt);

@@ -20,7 +20,7 @@ void take_snapshot(World& w) {
     for (size_t i = 0; i < w.agents.size(); ++i) {
         const Agent& a = w.agents[i];
         w.snapshot[i] = {a.x, a.y, a.yaw, a.vx, a.vy, a.speed, a.accel, a.v->length, a.v->width, a.lane,
-                         a.v->kind == ir::VehicleKind::static_object, a.stopped_since, a.driver ? a.driver->maneuver : -1};
+                         a.v->kind == ir::VehicleKind::static_object, a.stopped_since, a.driver ? a.driver->maneuver : -1, a.active};
     }
 }
 
@@ -57,11 +57,17 @@ RunResult run(World& w, RunObserver* observer) {
         const double t = tick * w.dt;
         // 1. Advance every agent to time t.
         for (Agent& a : w.agents) {
+            if (!a.active) continue;
             a.model->advance(w, a, t, tick);
             if (std::fabs(a.speed) < 0.1) {
                 if (a.stopped_since < 0) a.stopped_since = t;
             } else {
                 a.stopped_since = -1;
+            }
+            if (a.past_road_end) {
+                // Off the end of the road network: the agent leaves the run here.
+                a.active = false;
+                out.events.push_back({t, "left_road", {a.index}, 0, ""});
             }
         }
         // 2. Snapshot; 3. ground truth; 4. report.
@@ -73,7 +79,7 @@ RunResult run(World& w, RunObserver* observer) {
         // 5. Planning of the drivers due at this tick, applied in vehicle order.
         due.clear();
         for (Agent& a : w.agents) {
-            if (a.driver && (tick + a.index) % period == 0) due.push_back(&a);
+            if (a.driver && a.active && (tick + a.index) % period == 0) due.push_back(&a);
         }
         plan_due(w, due, t, threads);
         for (Agent* a : due) {

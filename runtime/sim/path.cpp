@@ -11,7 +11,7 @@ constexpr double kPathBehind = 60.0;
 }  // namespace
 
 std::shared_ptr<const road::ReferenceLine> build_path(const road::RoadNetwork& net, const std::vector<road::RouteStep>& route,
-                                                      Driver& d, LaneId from) {
+                                                      Driver& d, LaneId from, double from_s) {
     d.path.clear();
     d.path_start.clear();
     std::vector<road::Vec2> pts;
@@ -30,7 +30,8 @@ std::shared_ptr<const road::ReferenceLine> build_path(const road::RoadNetwork& n
     const double behind = road::polyline_length(pts);
     LaneId cur = from;
     double s0 = behind;
-    for (int guard = 0; guard < 64 && cur != kNoLane && len < kPathAhead + behind; ++guard) {
+    const double ahead = kPathAhead + behind + std::max(0.0, from_s);
+    for (int guard = 0; guard < 64 && cur != kNoLane && len < ahead; ++guard) {
         const auto& l = net.lane(cur);
         d.path.push_back(cur);
         d.path_start.push_back(s0);
@@ -40,9 +41,13 @@ std::shared_ptr<const road::ReferenceLine> build_path(const road::RoadNetwork& n
         s0 += l.length;
         len = s0;
         // Next lane: along the route when it continues by a successor, else the first successor.
+        // (A route that passes a lane twice continues from its first pass.)
         LaneId next = kNoLane;
         for (size_t r = 0; r + 1 < route.size(); ++r) {
-            if (route[r].lane == cur && !route[r + 1].by_lane_change) next = route[r + 1].lane;
+            if (route[r].lane == cur && !route[r + 1].by_lane_change) {
+                next = route[r + 1].lane;
+                break;
+            }
         }
         if (next == kNoLane && !l.successors.empty()) {
             // Prefer going straight (lowest turn change) deterministically: the first successor.

@@ -13,9 +13,10 @@
 namespace sdv::sim {
 
 // Builds the driver's path from `from` along `route` (the first straight-ahead successor where
-// the route says nothing): fills d.path and d.path_start and returns the fitted line, or null
-// when no line can be fitted.
+// the route says nothing), reaching at least 300 m beyond `from_s` (the driver's position on
+// `from`) however long the lanes are: fills d.path and d.path_start and returns the fitted line,
+// or null when no line can be fitted.
 std::shared_ptr<const road::ReferenceLine> build_path(const road::RoadNetwork& net, const std::vector<road::RouteStep>& route,
-                                                      Driver& d, LaneId from);
+                                                      Driver& d, LaneId from, double from_s = 0);
 
 }  // namespace sdv::sim

@@ -37,6 +37,7 @@ void View::build(const World& w, const Agent& a, double t0, double t_start) {
     for (size_t j = 0; j < w.snapshot.size(); ++j) {
         if (static_cast<int>(j) == a.index) continue;
         const Snap& o = w.snapshot[j];
+        if (!o.active) continue;
         const double dist = std::hypot(o.x - me.x, o.y - me.y);
         if (dist > w.scenario.sensor_range) continue;
         Seen s;

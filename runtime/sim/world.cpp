@@ -155,6 +155,15 @@ std::string World::place_agent(Agent& a) {
     a.lane = lane;
     a.lane_s = f.s;
     a.lane_d = f.d;
+    a.centre_lane = centre_lane(net, lane, f.d);
+    // The route: through every lane the vehicle's `route` names, in order, then to its goal;
+    // shortest between consecutive ones.
+    std::vector<LaneId> via;
+    for (const std::string& name : a.v->route) {
+        const auto id = net.find(name);
+        if (!id) return vwhere + ": its route names lane '" + name + "', which the road does not have";
+        via.push_back(*id);
+    }
     if (a.v->goal) {
         LaneId gl = kNoLane;
         double gs = 0;
@@ -163,20 +172,30 @@ std::string World::place_agent(Agent& a) {
         }
         a.goal_lane = gl;
         a.goal_s = gs;
-        auto route = road::shortest_route(net, lane, gl);
+        via.push_back(gl);
+    }
+    LaneId from = lane;
+    for (size_t k = 0; k < via.size(); ++k) {
+        if (via[k] == from && k > 0) continue;
+        auto route = road::shortest_route(net, from, via[k]);
         if (route.steps.empty()) {
-            return where(a.v->goal->loc) + ": the goal of vehicle '" + a.v->name + "' is unreachable: " + route.error;
+            const bool to_goal = a.v->goal && k + 1 == via.size();
+            return (to_goal ? where(a.v->goal->loc) + ": the goal of vehicle '" + a.v->name + "' is unreachable: "
+                            : vwhere + ": its route has no way on: ") +
+                   route.error;
         }
-        a.route = route.steps;
+        a.route.insert(a.route.end(), route.steps.begin() + (a.route.empty() ? 0 : 1), route.steps.end());
+        from = via[k];
     }
     if (a.v->kind == ir::VehicleKind::sdv) {
         a.driver = std::make_unique<Driver>();
         Driver& d = *a.driver;
         d.tree = std::make_unique<bt::BehaviorTree>(&program.instances.at(static_cast<size_t>(a.v->tree)));
-        d.ref = build_path(net, a.route, d, lane);
+        d.ref = build_path(net, a.route, d, lane, f.s);
         if (!d.ref) return vwhere + ": cannot build a reference line from lane '" + net.lane(lane).name + "'";
         // Initial plan: keep the start speed until the first plan takes over.
-        const road::FrenetState f0 = d.ref->to_frenet({a.x, a.vx, 0, a.y, a.vy, 0}, 0);
+        const road::FrenetState f0 = d.ref->to_frenet({a.x, a.vx, 0, a.y, a.vy, 0}, d.path_start.front() + f.s);
+        d.ref_s = f0.s;
         planner::Trajectory tr;
         tr.s = planner::Poly::quadratic(f0.s, f0.s_d, 0);
         tr.d = planner::Poly::quadratic(f0.d, 0, 0);

@@ -48,6 +48,7 @@ struct Snap {
     bool is_static = false;
     double stopped_since = -1;
     int32_t maneuver = -1;
+    bool active = true;  // false: gone from the run (left the road network)
 };
 
 // One planning cycle as the decision trace shows it (kept only with RunOptions::trace).
@@ -95,9 +96,15 @@ struct Agent {
     // Cartesian state
     double x = 0, y = 0, yaw = 0, vx = 0, vy = 0, ax = 0, ay = 0;
     double speed = 0, accel = 0, prev_accel = 0;
-    // The lane under the agent and its coordinates on that lane.
+    // The lane the agent drives in (an SDV: the lane of its path under it) and its coordinates
+    // on that lane; the lane its centre is in (kNoLane: off every lane).
     LaneId lane = kNoLane;
     double lane_s = 0, lane_d = 0;
+    LaneId centre_lane = kNoLane;
+    // Left the road network past the end of a lane without successor: no longer simulated.
+    bool past_road_end = false;
+    bool active = true;
+    bool off_lanes = false;  // the centre is off every lane (an off_road episode)
     double stopped_since = -1;
     // Route and goal
     std::vector<road::RouteStep> route;
