@@ -89,6 +89,7 @@ RunResult run(World& w, RunObserver* observer) {
             out.timing.plan_us.push_back(d.plan_us);
             out.timing.candidates += d.candidates;
             if (d.fallback) {
+                ++vm.fallback_plans;
                 if (!vm.fallback_used) out.events.push_back({t, "fallback", {a->index}, 0, ""});
                 vm.fallback_used = true;
             }

@@ -47,6 +47,8 @@ struct VehicleMetrics {
     bool reached_goal = false;
     bool fallback_used = false;
     int plans = 0;
+    int fallback_plans = 0;     // plans that found no feasible candidate
+    double longest_stall_s = 0; // longest time below 0.5 m/s while its tree was not waiting
 };
 
 struct ExpectResult {
