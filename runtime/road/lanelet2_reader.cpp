@@ -1,13 +1,12 @@
 #include "runtime/road/lanelet2_reader.h"
 
 #include <GeographicLib/LocalCartesian.hpp>
-#include <pugixml.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <pugixml.hpp>
 #include <set>
 #include <sstream>
 
@@ -33,7 +32,8 @@ struct Relation {
 
 std::map<std::string, std::string> read_tags(const pugi::xml_node& e) {
     std::map<std::string, std::string> tags;
-    for (auto t : e.children("tag")) tags[t.attribute("k").as_string()] = t.attribute("v").as_string();
+    for (auto t : e.children("tag"))
+        tags[t.attribute("k").as_string()] = t.attribute("v").as_string();
     return tags;
 }
 
@@ -57,11 +57,180 @@ std::optional<double> parse_speed(const std::string& v) {
     return std::nullopt;
 }
 
-const std::set<std::string> kDrivable = {"road", "highway", "play_street", "emergency_lane", "bus_lane", ""};
-const std::set<std::string> kRoles = {"refers", "ref_line", "light_bulbs", "right_of_way", "yield", "cancels",
-                                      "cancel_line"};
-const std::set<std::string> kRegSubtypes = {"traffic_light", "right_of_way", "all_way_stop", "speed_limit",
-                                            "traffic_sign"};
+using Tags = std::map<std::string, std::string>;
+
+// ---- Lanelet2's rules (docs/design-notes.md, "Lanelet2 topology"; the functions named are
+// Lanelet2's). Independently re-derived in scripts/lanelet2-golden.py.
+
+// Attribute::asBool.
+std::optional<bool> as_bool(const std::string& v) {
+    if (v == "1" || v == "true" || v == "yes") return true;
+    if (v == "0" || v == "false" || v == "no") return false;
+    return std::nullopt;
+}
+
+bool starts_with(const std::string& s, const std::string& prefix) {
+    return s.compare(0, prefix.size(), prefix) == 0;
+}
+
+// GenericTrafficRules.cpp: hasOverride / getOverride (the first tag, in key order, that the
+// override key starts with).
+bool has_override(const Tags& tags, const std::string& prefix) {
+    return std::any_of(tags.begin(), tags.end(),
+                       [&](const auto& t) { return starts_with(t.first, prefix); });
+}
+
+bool get_override(const Tags& tags, const std::string& prefix, const std::string& key,
+                  bool fallback) {
+    for (const auto& [k, v] : tags) {
+        if (k.size() >= prefix.size() && starts_with(key, k)) return as_bool(v).value_or(fallback);
+    }
+    return fallback;
+}
+
+// GenericTrafficRules::canPass(lanelet) for participant "vehicle" under GermanVehicle (which
+// has no regulatory element that forbids passing): isDrivingDir, then the participant
+// overrides, then the subtype table of canPass(type, location).
+bool vehicle_can_pass(const Tags& tags, bool inverted) {
+    if (inverted) {
+        std::optional<bool> one_way;
+        if (auto it = tags.find("one_way"); it != tags.end()) one_way = as_bool(it->second);
+        if (one_way) {
+            if (*one_way) return false;
+        } else if (!has_override(tags, "one_way") ||
+                   get_override(tags, "one_way", "one_way:vehicle", true)) {
+            return false;  // vehicles: one way unless tagged otherwise
+        }
+    }
+    if (has_override(tags, "participant"))
+        return get_override(tags, "participant", "participant:vehicle", false);
+    auto it = tags.find("subtype");
+    const std::string subtype = it == tags.end() ? "" : it->second;
+    // Subtypes whose participants include a prefix of "vehicle": "" and road, highway,
+    // play_street, exit. (emergency_lane is for "vehicle:emergency" only; bicycle_lane,
+    // walkway, crosswalk, stairs, shared_walkway and unknown subtypes are not for vehicles.)
+    return subtype.empty() || subtype == "road" || subtype == "highway" ||
+           subtype == "play_street" || subtype == "exit";
+}
+
+enum class Change { none, to_left, to_right, both };
+
+// GenericTrafficRules::laneChangeType for a vehicle along a lanelet's bound: the hard-coded
+// lane_change, lane_change:left, lane_change:right tags, else the line's type and subtype;
+// swapped when the lanelet uses the way inverted.
+Change lane_change_type(const Tags& tags, bool inverted) {
+    auto flag = [&](const char* k) { return as_bool(tags.at(k)).value_or(false); };
+    Change c = Change::none;
+    if (tags.count("lane_change")) {
+        c = flag("lane_change") ? Change::both : Change::none;
+    } else if (tags.count("lane_change:left")) {
+        c = !flag("lane_change:left")                                      ? Change::none
+            : tags.count("lane_change:right") && flag("lane_change:right") ? Change::both
+                                                                           : Change::to_left;
+    } else if (tags.count("lane_change:right")) {
+        c = flag("lane_change:right") ? Change::to_right : Change::none;
+    } else {
+        auto get = [&](const char* k) {
+            auto it = tags.find(k);
+            return it == tags.end() ? std::string() : it->second;
+        };
+        const std::string type = get("type"), subtype = get("subtype");
+        if (type == "line_thin" || type == "line_thick") {
+            if (subtype == "dashed")
+                c = Change::both;
+            else if (subtype == "dashed_solid")
+                c = Change::to_right;
+            else if (subtype == "solid_dashed")
+                c = Change::to_left;
+        }
+    }
+    if (inverted && c == Change::to_left) return Change::to_right;
+    if (inverted && c == Change::to_right) return Change::to_left;
+    return c;
+}
+
+// geometry::align: signedDistance with Lanelet2's ProjectedPoint strategy (3D distances, the
+// first segment with a strictly smaller distance wins; left/right from the 2D cross product,
+// with the corner rule of internal::isLeftOf).
+struct P3 {
+    double x = 0, y = 0, z = 0;
+    friend bool operator==(const P3&, const P3&) = default;
+};
+
+bool point_is_left_of(const P3& s1, const P3& s2, const P3& p) {
+    return (s2.x - s1.x) * (p.y - s1.y) - (s2.y - s1.y) * (p.x - s1.x) > 0;
+}
+
+double signed_distance(const std::vector<P3>& ls, const P3& p) {
+    double best = -1;
+    P3 b1, b2, bp;
+    for (size_t i = 0; i + 1 < ls.size(); ++i) {
+        const P3 &s1 = ls[i], &s2 = ls[i + 1];
+        const P3 v{s2.x - s1.x, s2.y - s1.y, s2.z - s1.z}, w{p.x - s1.x, p.y - s1.y, p.z - s1.z};
+        const double c1 = w.x * v.x + w.y * v.y + w.z * v.z;
+        P3 proj = s1;
+        if (c1 > 0) {
+            const double c2 = v.x * v.x + v.y * v.y + v.z * v.z;
+            proj = c2 <= c1 ? s2
+                            : P3{s1.x + c1 / c2 * v.x, s1.y + c1 / c2 * v.y, s1.z + c1 / c2 * v.z};
+        }
+        const double d =
+            std::sqrt((p.x - proj.x) * (p.x - proj.x) + (p.y - proj.y) * (p.y - proj.y) +
+                      (p.z - proj.z) * (p.z - proj.z));
+        if (best < 0 || d < best) {
+            best = d;
+            b1 = s1;
+            b2 = s2;
+            bp = proj;
+        }
+    }
+    bool left = point_is_left_of(b1, b2, p);
+    if (b2 == bp) {
+        const auto it = std::find(ls.begin(), ls.end(), b2);
+        if (it != ls.end() && std::next(it) != ls.end()) {
+            const P3& next = *std::next(it);
+            if (left != point_is_left_of(b2, next, p) && left == point_is_left_of(b1, b2, next))
+                left = !left;
+        }
+    }
+    return left ? best : -best;
+}
+
+P3 middle_point(const std::vector<P3>& ls) {
+    if (ls.size() > 2) return ls[ls.size() / 2];
+    return {0.5 * (ls.front().x + ls.back().x), 0.5 * (ls.front().y + ls.back().y),
+            0.5 * (ls.front().z + ls.back().z)};
+}
+
+// Which bounds Lanelet2's loader inverts: the left one when the right bound's middle point is
+// not to its right; then the right one when the (aligned) left bound's middle point is not to
+// its left. Each bound on its own: either, both or neither may be turned.
+std::pair<bool, bool> align(std::vector<P3> left, const std::vector<P3>& right) {
+    if ((left.size() <= 1 && right.size() <= 1) || left.empty() || right.empty())
+        return {false, false};
+    const bool invert_left = !(signed_distance(left, middle_point(right)) < 0) && left.size() > 1;
+    if (invert_left) std::reverse(left.begin(), left.end());
+    const bool invert_right = !(signed_distance(right, middle_point(left)) > 0) && right.size() > 1;
+    return {invert_left, invert_right};
+}
+
+// A lanelet bound as Lanelet2 holds it: the way and whether it is used inverted.
+struct Bound {
+    Id way = 0;
+    bool inverted = false;
+    std::vector<Id> nodes;  // in the lanelet's direction
+    bool same_line(const Bound& o) const { return way == o.way && inverted == o.inverted; }
+    bool opposite_line(const Bound& o) const { return way == o.way && inverted != o.inverted; }
+    Bound invert() const {
+        Bound b{way, !inverted, nodes};
+        std::reverse(b.nodes.begin(), b.nodes.end());
+        return b;
+    }
+};
+const std::set<std::string> kRoles = {"refers", "ref_line", "light_bulbs", "right_of_way",
+                                      "yield",  "cancels",  "cancel_line"};
+const std::set<std::string> kRegSubtypes = {"traffic_light", "right_of_way", "all_way_stop",
+                                            "speed_limit", "traffic_sign"};
 
 }  // namespace
 
@@ -82,8 +251,8 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
     pugi::xml_document doc;
     const auto parsed = doc.load_buffer(xml.data(), xml.size());
     if (!parsed) {
-        r.errors.push_back(std::string("not a valid OSM XML file: ") + parsed.description() + " at byte " +
-                           std::to_string(parsed.offset));
+        r.errors.push_back(std::string("not a valid OSM XML file: ") + parsed.description() +
+                           " at byte " + std::to_string(parsed.offset));
         return r;
     }
     const auto osm = doc.child("osm");
@@ -96,21 +265,31 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
     std::map<Id, Way> ways;
     std::map<Id, Relation> rels;
     std::vector<Id> rel_order;
+    std::map<Id, double> heights;  // the "ele" tag: Lanelet2 aligns bounds in 3D
     bool have_origin = origin.has_value();
     GeographicLib::LocalCartesian proj;
     for (auto n : osm.children("node")) {
         Id id;
         if (!parse_id(n.attribute("id").as_string(), id)) {
-            r.errors.push_back("node with an invalid id '" + std::string(n.attribute("id").as_string()) + "'");
+            r.errors.push_back("node with an invalid id '" +
+                               std::string(n.attribute("id").as_string()) + "'");
             continue;
         }
         const auto tags = read_tags(n);
-        const double lat = n.attribute("lat").as_double(NAN), lon = n.attribute("lon").as_double(NAN);
+        const double lat = n.attribute("lat").as_double(NAN),
+                     lon = n.attribute("lon").as_double(NAN);
+        if (auto e = tags.find("ele"); e != tags.end()) {
+            char* end = nullptr;
+            const double h = std::strtod(e->second.c_str(), &end);
+            if (end != e->second.c_str() && std::isfinite(h)) heights[id] = h;
+        }
         if (tags.count("local_x") && tags.count("local_y")) {
-            nodes[id] = {std::strtod(tags.at("local_x").c_str(), nullptr), std::strtod(tags.at("local_y").c_str(), nullptr)};
+            nodes[id] = {std::strtod(tags.at("local_x").c_str(), nullptr),
+                         std::strtod(tags.at("local_y").c_str(), nullptr)};
             continue;
         }
-        if (!std::isfinite(lat) || !std::isfinite(lon) || std::fabs(lat) > 90 || std::fabs(lon) > 180) {
+        if (!std::isfinite(lat) || !std::isfinite(lon) || std::fabs(lat) > 90 ||
+            std::fabs(lon) > 180) {
             r.errors.push_back("node " + std::to_string(id) + ": invalid coordinates");
             continue;
         }
@@ -132,7 +311,8 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
         for (auto nd : w.children("nd")) {
             Id ref;
             if (!parse_id(nd.attribute("ref").as_string(), ref) || !nodes.count(ref)) {
-                r.errors.push_back("way " + std::to_string(id) + ": refers to missing node " + nd.attribute("ref").as_string());
+                r.errors.push_back("way " + std::to_string(id) + ": refers to missing node " +
+                                   nd.attribute("ref").as_string());
                 continue;
             }
             way.nodes.push_back(ref);
@@ -147,7 +327,8 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
         for (auto m : e.children("member")) {
             Member mem{m.attribute("type").as_string(), m.attribute("role").as_string(), 0};
             if (!parse_id(m.attribute("ref").as_string(), mem.ref)) {
-                r.errors.push_back("relation " + std::to_string(id) + ": member with an invalid ref");
+                r.errors.push_back("relation " + std::to_string(id) +
+                                   ": member with an invalid ref");
                 continue;
             }
             rel.members.push_back(mem);
@@ -162,75 +343,120 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
     };
 
     RoadNetwork net;
+    // A vertex of Lanelet2's routing graph for a vehicle: a lanelet as loaded, or its inversion
+    // when the lanelet is drivable both ways.
     struct LL {
         Id id;
-        Id left_way, right_way;
-        std::vector<Id> left, right;  // oriented node ids
+        bool inverted;
+        Bound left, right;
         LaneId lane;
         std::vector<Id> regs;
         std::vector<Id> stop_ways;
     };
     std::vector<LL> lls;
+    auto points3 = [&](const std::vector<Id>& ids) {
+        std::vector<P3> pts;
+        for (Id n : ids) {
+            auto h = heights.find(n);
+            pts.push_back({nodes.at(n).x, nodes.at(n).y, h == heights.end() ? 0.0 : h->second});
+        }
+        return pts;
+    };
+    std::vector<size_t> both_ways;  // lanelets also drivable inverted
     for (Id id : rel_order) {
         const Relation& rel = rels[id];
         auto type = rel.tags.find("type");
         if (type == rel.tags.end() || type->second != "lanelet") continue;
         ++r.lanelets;
-        const std::string subtype = rel.tags.count("subtype") ? rel.tags.at("subtype") : "";
         const std::string where = "lanelet " + std::to_string(id);
         Id left = 0, right = 0;
         bool has_left = false, has_right = false;
         std::vector<Id> regs;
         std::vector<Id> stop_ways;  // GeoScenario maps name a lanelet's stop line directly
         for (const auto& m : rel.members) {
-            if (m.role == "left") { left = m.ref; has_left = true; }
-            else if (m.role == "right") { right = m.ref; has_right = true; }
-            else if (m.role == "regulatory_element") {
-                if (!rels.count(m.ref)) r.errors.push_back(where + ": refers to missing regulatory element " + std::to_string(m.ref));
-                else regs.push_back(m.ref);
+            if (m.role == "left") {
+                left = m.ref;
+                has_left = true;
+            } else if (m.role == "right") {
+                right = m.ref;
+                has_right = true;
+            } else if (m.role == "regulatory_element") {
+                if (!rels.count(m.ref))
+                    r.errors.push_back(where + ": refers to missing regulatory element " +
+                                       std::to_string(m.ref));
+                else
+                    regs.push_back(m.ref);
             } else if (m.role == "stop_line") {
-                if (!ways.count(m.ref)) r.errors.push_back(where + ": refers to missing way " + std::to_string(m.ref));
-                else stop_ways.push_back(m.ref);
+                if (!ways.count(m.ref))
+                    r.errors.push_back(where + ": refers to missing way " + std::to_string(m.ref));
+                else
+                    stop_ways.push_back(m.ref);
             } else if (m.role.empty()) {
-                r.warnings.push_back(where + ": member " + m.type + " " + std::to_string(m.ref) + " has no role; ignored");
+                r.warnings.push_back(where + ": member " + m.type + " " + std::to_string(m.ref) +
+                                     " has no role; ignored");
             } else if (m.role != "centerline") {
                 r.errors.push_back(where + ": unknown member role '" + m.role + "'");
             }
         }
         if (!has_left || !has_right) {
-            r.errors.push_back(where + ": missing " + std::string(!has_left ? "left" : "right") + " bound");
+            r.errors.push_back(where + ": missing " + std::string(!has_left ? "left" : "right") +
+                               " bound");
             continue;
         }
         if (!ways.count(left) || !ways.count(right)) {
-            r.errors.push_back(where + ": refers to missing way " + std::to_string(!ways.count(left) ? left : right));
+            r.errors.push_back(where + ": refers to missing way " +
+                               std::to_string(!ways.count(left) ? left : right));
             continue;
         }
-        if (!kDrivable.count(subtype)) continue;
-        std::vector<Id> ln = ways[left].nodes, rn = ways[right].nodes;
+        // Only lanelets a vehicle may drive become lanes
+        // (RoutingGraphBuilder::getPassableLanelets).
+        if (!vehicle_can_pass(rel.tags, false)) continue;
+        const std::vector<Id>&ln = ways[left].nodes, &rn = ways[right].nodes;
         if (ln.size() < 2 || rn.size() < 2) {
-            r.errors.push_back(where + ": degenerate " + std::string(ln.size() < 2 ? "left" : "right") + " bound (way " +
-                               std::to_string(ln.size() < 2 ? left : right) + " has fewer than 2 nodes)");
+            r.errors.push_back(where + ": degenerate " +
+                               std::string(ln.size() < 2 ? "left" : "right") + " bound (way " +
+                               std::to_string(ln.size() < 2 ? left : right) +
+                               " has fewer than 2 nodes)");
             continue;
         }
-        std::vector<Vec2> lp = points(ways[left]), rp = points(ways[right]);
-        if (polyline_length(lp) < 1e-3 || polyline_length(rp) < 1e-3) {
+        if (polyline_length(points(ways[left])) < 1e-3 ||
+            polyline_length(points(ways[right])) < 1e-3) {
             r.errors.push_back(where + ": degenerate bound of zero length");
             continue;
         }
-        // The right bound gives the direction; the left one is turned to match it. (Opposite
-        // lanes share their middle way as both left bounds, so one of them must be turned;
-        // outer bounds are drawn in the driving direction.)
-        const double same = distance(lp.front(), rp.front()) + distance(lp.back(), rp.back());
-        const double flipped = distance(lp.front(), rp.back()) + distance(lp.back(), rp.front());
-        if (flipped < same) {
-            std::reverse(ln.begin(), ln.end());
-            std::reverse(lp.begin(), lp.end());
-        }
+        // Orientation as Lanelet2's loader gives it (OsmHandlerLoad.cpp, loadLanelets:
+        // geometry::align): each bound is turned when it lies on the wrong side of the other.
+        const auto [inv_left, inv_right] = align(points3(ln), points3(rn));
+        Bound lb{left, false, ln}, rb{right, false, rn};
+        if (inv_left) lb = lb.invert();
+        if (inv_right) rb = rb.invert();
+        lls.push_back({id, false, lb, rb, kNoLane, regs, stop_ways});
+        if (vehicle_can_pass(rel.tags, true)) both_ways.push_back(lls.size() - 1);
+    }
+    // Lanelets drivable both ways (one_way=no) are a second vertex, inverted: left and right
+    // bounds swapped and reversed (RoutingGraphBuilder::appendBidirectionalLanelets, which
+    // appends them after all the others).
+    for (size_t i : both_ways) {
+        const LL a = lls[i];
+        lls.push_back(
+            {a.id, true, a.right.invert(), a.left.invert(), kNoLane, a.regs, a.stop_ways});
+    }
+    r.both_ways = static_cast<int>(both_ways.size());
+    for (LL& a : lls) {
+        const Relation& rel = rels[a.id];
+        const std::string where = "lanelet " + std::to_string(a.id);
+        std::vector<Vec2> lp, rp;
+        for (Id n : a.left.nodes) lp.push_back(nodes.at(n));
+        for (Id n : a.right.nodes) rp.push_back(nodes.at(n));
         // Centre line: both bounds resampled at the same arc-length fractions and averaged.
-        const int n = std::max(2, static_cast<int>(std::ceil(std::max(polyline_length(lp), polyline_length(rp)) / 0.5)) + 1);
+        const int n = std::max(
+            2,
+            static_cast<int>(std::ceil(std::max(polyline_length(lp), polyline_length(rp)) / 0.5)) +
+                1);
         auto resample = [n](const std::vector<Vec2>& p) {
             std::vector<double> acc = {0};
-            for (size_t i = 1; i < p.size(); ++i) acc.push_back(acc.back() + distance(p[i - 1], p[i]));
+            for (size_t i = 1; i < p.size(); ++i)
+                acc.push_back(acc.back() + distance(p[i - 1], p[i]));
             std::vector<Vec2> out;
             size_t j = 0;
             for (int i = 0; i < n; ++i) {
@@ -244,49 +470,93 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
         };
         const auto ls = resample(lp), rs = resample(rp);
         Lane lane;
-        lane.name = std::to_string(id);
-        for (int i = 0; i < n; ++i) lane.centre.push_back(0.5 * (ls[static_cast<size_t>(i)] + rs[static_cast<size_t>(i)]));
+        lane.name = std::to_string(a.id) + (a.inverted ? kInvertedSuffix : "");
+        for (int i = 0; i < n; ++i)
+            lane.centre.push_back(0.5 * (ls[static_cast<size_t>(i)] + rs[static_cast<size_t>(i)]));
         lane.left_bound = lp;
         lane.right_bound = rp;
         lane.width = distance(ls[static_cast<size_t>(n / 2)], rs[static_cast<size_t>(n / 2)]);
         const std::string location = rel.tags.count("location") ? rel.tags.at("location") : "urban";
         lane.speed_limit = location == "nonurban" ? 100 / 3.6 : 50 / 3.6;
         if (rel.tags.count("speed_limit")) {
-            if (auto v = parse_speed(rel.tags.at("speed_limit"))) lane.speed_limit = *v;
-            else r.warnings.push_back(where + ": unreadable speed_limit '" + rel.tags.at("speed_limit") + "'");
+            if (auto v = parse_speed(rel.tags.at("speed_limit")))
+                lane.speed_limit = *v;
+            else if (!a.inverted)
+                r.warnings.push_back(where + ": unreadable speed_limit '" +
+                                     rel.tags.at("speed_limit") + "'");
         }
-        const LaneId lid = net.add_lane(std::move(lane));
-        lls.push_back({id, left, right, ln, rn, lid, regs, stop_ways});
-        ++r.drivable;
+        a.lane = net.add_lane(std::move(lane));
+        if (!a.inverted) ++r.drivable;
     }
-    // Successors: end nodes of both bounds are the start nodes of another lanelet's bounds.
+    // Successors: geometry::follows, by point identity: the end points of a vertex's left and
+    // right bound are the start points of the other's (RoutingGraphBuilder::addFollowingEdges).
     std::map<std::pair<Id, Id>, std::vector<size_t>> starts;
-    for (size_t i = 0; i < lls.size(); ++i) starts[{lls[i].left.front(), lls[i].right.front()}].push_back(i);
+    for (size_t i = 0; i < lls.size(); ++i)
+        starts[{lls[i].left.nodes.front(), lls[i].right.nodes.front()}].push_back(i);
+    auto following = [&](const LL& a) {
+        auto it = starts.find({a.left.nodes.back(), a.right.nodes.back()});
+        return it == starts.end() ? std::vector<size_t>{} : it->second;
+    };
+    std::map<std::pair<Id, Id>, size_t> ends;
+    for (const auto& a : lls) ++ends[{a.left.nodes.back(), a.right.nodes.back()}];
     for (const auto& a : lls) {
-        auto it = starts.find({a.left.back(), a.right.back()});
-        if (it == starts.end()) continue;
-        for (size_t b : it->second) net.connect(a.lane, lls[b].lane);
+        const auto next = following(a);
+        for (size_t b : next) net.connect(a.lane, lls[b].lane);
+        if (next.size() > 1) {
+            // Lanelet2 refuses a routing graph where lanelets diverge and merge at once.
+            if (ends[{a.left.nodes.back(), a.right.nodes.back()}] > 1) {
+                r.warnings.push_back("lanelet " + std::to_string(a.id) +
+                                     ": lanelets diverge and merge at its end (Lanelet2's routing "
+                                     "graph rejects this)");
+            }
+        }
     }
-    // Neighbours through shared bound ways.
-    std::map<Id, std::vector<size_t>> by_way;
+    // Neighbours through shared bounds. Same direction: the other's right bound is this one's
+    // left bound, the same way used the same way round (geometry::leftOf). Such a neighbour is
+    // kept when the traffic rules let a vehicle change lanes across the bound
+    // (GenericTrafficRules::canChangeLane: RoutingGraph::left/right); opposite direction: the
+    // other uses the same way inverted on the same side (the neighbour test of
+    // geometry::overlaps2d), kept when there is no same-direction lane change on that side.
+    // Several candidates (overlapping lanelets): the smallest lanelet id, the lanelet before its
+    // inversion.
+    auto order = [&](size_t i) { return std::pair{lls[i].id, lls[i].inverted}; };
+    auto pick = [&](const std::vector<size_t>& c) {
+        return c.empty() ? std::optional<size_t>{}
+                         : std::optional<size_t>{*std::min_element(
+                               c.begin(), c.end(),
+                               [&](size_t x, size_t y) { return order(x) < order(y); })};
+    };
+    std::map<Id, std::vector<size_t>> by_way;  // the vertices bounded by a way
     for (size_t i = 0; i < lls.size(); ++i) {
-        by_way[lls[i].left_way].push_back(i);
-        by_way[lls[i].right_way].push_back(i);
+        by_way[lls[i].left.way].push_back(i);
+        if (lls[i].right.way != lls[i].left.way) by_way[lls[i].right.way].push_back(i);
     }
     for (size_t i = 0; i < lls.size(); ++i) {
-        for (size_t j : by_way[lls[i].left_way]) {
-            if (j == i) continue;
-            const LL& a = lls[i];
-            const LL& b = lls[j];
-            if (b.right_way == a.left_way && b.right == a.left) {
-                net.set_neighbours(a.lane, b.lane, true);
-            } else if (b.left_way == a.left_way && !a.left.empty() && b.left.size() == a.left.size() &&
-                       std::equal(a.left.begin(), a.left.end(), b.left.rbegin())) {
-                // Opposite neighbours: the shared way runs against one of them. (Two lanelets
-                // sharing a left bound drawn the same way overlap where a lane splits; they are
-                // not neighbours.)
-                net.lane_mut(a.lane).left = b.lane;
-                net.lane_mut(a.lane).left_same_direction = false;
+        const LL& a = lls[i];
+        const auto next = following(a);
+        for (const bool left_side : {true, false}) {
+            const Bound& b = left_side ? a.left : a.right;
+            const Change c = lane_change_type(ways[b.way].tags, b.inverted);
+            const bool allowed =
+                c == Change::both || c == (left_side ? Change::to_left : Change::to_right);
+            std::vector<size_t> same, opposite;
+            for (size_t j : by_way[b.way]) {
+                if (j == i) continue;
+                const LL& o = lls[j];
+                const bool successor = std::find(next.begin(), next.end(), j) != next.end();
+                if ((left_side ? o.right : o.left).same_line(b) && !successor && allowed)
+                    same.push_back(j);
+                if ((left_side ? o.left : o.right).opposite_line(b)) opposite.push_back(j);
+            }
+            Lane& lane = net.lane_mut(a.lane);
+            LaneId& nb = left_side ? lane.left : lane.right;
+            bool& same_direction = left_side ? lane.left_same_direction : lane.right_same_direction;
+            if (auto s = pick(same)) {
+                nb = lls[*s].lane;
+                same_direction = true;
+            } else if (auto o = pick(opposite)) {
+                nb = lls[*o].lane;
+                same_direction = false;
             }
         }
     }
@@ -302,10 +572,14 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
             continue;
         }
         for (const auto& m : rel.members) {
-            if (!kRoles.count(m.role)) r.errors.push_back(where + ": unknown member role '" + m.role + "'");
-            const bool exists = m.type == "way" ? ways.count(m.ref) > 0 : m.type == "node" ? nodes.count(m.ref) > 0
-                                                                                         : rels.count(m.ref) > 0;
-            if (!exists) r.errors.push_back(where + ": member " + m.type + " " + std::to_string(m.ref) + " does not exist");
+            if (!kRoles.count(m.role))
+                r.errors.push_back(where + ": unknown member role '" + m.role + "'");
+            const bool exists = m.type == "way"    ? ways.count(m.ref) > 0
+                                : m.type == "node" ? nodes.count(m.ref) > 0
+                                                   : rels.count(m.ref) > 0;
+            if (!exists)
+                r.errors.push_back(where + ": member " + m.type + " " + std::to_string(m.ref) +
+                                   " does not exist");
         }
         if (subtype == "traffic_light") {
             TrafficLight tl;
@@ -316,7 +590,8 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
             for (const auto& m : rel.members) {
                 if (m.role == "refers" && m.type == "way" && ways.count(m.ref)) {
                     // GeoScenario scenarios bind their light programs by the light way's name.
-                    if (auto nm = ways[m.ref].tags.find("name"); nm != ways[m.ref].tags.end() && !nm->second.empty()) {
+                    if (auto nm = ways[m.ref].tags.find("name");
+                        nm != ways[m.ref].tags.end() && !nm->second.empty()) {
                         tl.name = nm->second;
                     }
                     for (Id nd : ways[m.ref].nodes) {
@@ -373,7 +648,9 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
     // Right of way: yield and priority lanelets.
     for (Id id : rel_order) {
         const Relation& rel = rels[id];
-        if (!rel.tags.count("subtype") || (rel.tags.at("subtype") != "right_of_way" && rel.tags.at("subtype") != "all_way_stop")) continue;
+        if (!rel.tags.count("subtype") ||
+            (rel.tags.at("subtype") != "right_of_way" && rel.tags.at("subtype") != "all_way_stop"))
+            continue;
         RightOfWay row;
         for (const auto& m : rel.members) {
             if (m.type != "relation") continue;

@@ -1,9 +1,13 @@
-// Reads a Lanelet2 map (OSM XML) into the RoadNetwork: drivable lanelets with centre lines
-// from their bounds, successors (a lanelet's bounds end where another's begin), neighbours
-// (shared bound ways; a way shared as both left bounds means opposite directions), traffic
-// lights, right-of-way and all-way-stop regulatory elements, stop lines and speed limits.
-// Geographic coordinates are projected with GeographicLib's LocalCartesian about the origin
-// (default: the first node of the file). Malformed maps give errors naming the element.
+// Reads a Lanelet2 map (OSM XML) into the RoadNetwork with Lanelet2's own rules for a vehicle
+// under the German traffic rules (docs/design-notes.md, "Lanelet2 topology"): the lanelets a
+// vehicle may drive (subtype and participant tags), each oriented as Lanelet2's loader aligns
+// its bounds, plus an inverted copy of each lanelet drivable both ways (one_way=no), named
+// "<id>:inv"; successors (a lanelet's bounds end where another's begin, by node identity);
+// same-direction neighbours where the shared bound lets a vehicle change lanes, opposite ones
+// where a bound is shared inverted; traffic lights, right-of-way and all-way-stop regulatory
+// elements, stop lines and speed limits. Geographic coordinates are projected with
+// GeographicLib's LocalCartesian about the origin (default: the first node of the file).
+// Malformed maps give errors naming the element.
 #pragma once
 
 #include <optional>
@@ -14,6 +18,9 @@
 
 namespace sdv::road {
 
+// Name suffix of the lane that drives a two-way lanelet against its orientation.
+inline constexpr const char* kInvertedSuffix = ":inv";
+
 struct GeoOrigin {
     double lat = 0, lon = 0, alt = 0;
 };
@@ -22,9 +29,10 @@ struct LoadResult {
     std::optional<RoadNetwork> network;  // empty when there are errors
     std::vector<std::string> errors;     // "lanelet 44970: ..." — element kind and id first
     std::vector<std::string> warnings;
-    GeoOrigin origin;                    // the origin used
-    int lanelets = 0;                    // all lanelet relations
-    int drivable = 0;                    // of which became lanes
+    GeoOrigin origin;   // the origin used
+    int lanelets = 0;   // all lanelet relations
+    int drivable = 0;   // of which a vehicle may drive: each became a lane
+    int both_ways = 0;  // of which drivable both ways: each also became "<id>:inv"
 };
 
 LoadResult load_lanelet2(const std::string& path, std::optional<GeoOrigin> origin = std::nullopt);

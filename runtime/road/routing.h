@@ -1,7 +1,9 @@
-// Routing over lanes: the shortest lane path (Dijkstra) over successor edges (cost: lane
-// length) and lane-change edges to same-direction neighbours (cost: kLaneChangeCost plus the
-// distance still to drive in the new lane, so changes happen where they are needed), with
-// deterministic tie-breaking by lane id.
+// Routing over lanes as Lanelet2's RoutingGraph::getRoute / shortestPath does it with its default
+// RoutingCostDistance(laneChangeCost = 10): the shortest lane path (Dijkstra) over successor
+// edges, costing the mean of the two lanes' lengths (geometry::approximatedLength2d of the left
+// bound), and lane-change edges to same-direction neighbours, costing kLaneChangeCost. A Lanelet2
+// map keeps a same-direction neighbour only where the traffic rules allow the lane change (see
+// lanelet2_reader.h). Ties are broken deterministically by lane id.
 #pragma once
 
 #include <string>
@@ -11,7 +13,8 @@
 
 namespace sdv::road {
 
-inline constexpr double kLaneChangeCost = 50.0;  // m-equivalent of one lane change
+inline constexpr double kLaneChangeCost =
+    10.0;  // m-equivalent of one lane change (Lanelet2's default)
 
 struct RouteStep {
     LaneId lane = kNoLane;
@@ -25,5 +28,10 @@ struct Route {
 };
 
 Route shortest_route(const RoadNetwork& net, LaneId from, LaneId to);
+
+// The length Lanelet2's RoutingCostDistance gives a lane: geometry::approximatedLength2d, the
+// length of the left bound sampled at every max(1, n/10)-th of its n points (the centre line's
+// length when a lane has no left bound).
+double routing_length(const Lane& lane);
 
 }  // namespace sdv::road
