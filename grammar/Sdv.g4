@@ -100,7 +100,7 @@ scenarioStmt
     | (EGO | VEHICLE) ident ':' ident '{' vehicleStmt* '}'   # scenarioVehicle
     | OBJECT ident '{' vehicleStmt* '}'                   # scenarioObject
     | LIGHT qualName '{' lightStmt* '}'                   # scenarioLight
-    | EXPECT expr                                         # scenarioExpect
+    | EXPECT expr window?                                 # scenarioExpect
     ;
 
 vehicleStmt
@@ -134,6 +134,8 @@ expr
     | call (cmp=('<' | '<=' | '>' | '>=') value)?         # callExpr
     ;
 call : ident '(' (ident (',' ident)*)? ')' ;
+// The time window of an expectation: `during 5 s .. 20 s`, `after 5 s`, `before 20 s`.
+window : (DURING | AFTER | BEFORE) value ;
 
 // Every keyword is also a valid name.
 ident
@@ -142,7 +144,7 @@ ident
     | MANEUVER | SUBTREE | FALLBACK | SEQUENCE | REACTIVE_SEQUENCE | PARALLEL | NOT | ONCE
     | SAMPLES | SCENARIO | TIMEOUT | SEED | RATE | EGO | VEHICLE | OBJECT | LIGHT | EXPECT
     | START | SPEED | LENGTH | WIDTH | GOAL | ROUTE | TRAJECTORY | AT | OFFSET | LANE | AND | OR
-    | LEFT | RIGHT | ENDS | RUN
+    | LEFT | RIGHT | ENDS | RUN | DURING | AFTER | BEFORE
     ;
 
 // ---------------------------------------------------------------- lexer
@@ -198,6 +200,9 @@ LEFT : 'left' ;
 RIGHT : 'right' ;
 ENDS : 'ends' ;
 RUN : 'run' ;
+DURING : 'during' ;
+AFTER : 'after' ;
+BEFORE : 'before' ;
 
 PLUSMINUS : '±' | '+-' ;
 SUP2 : '²' ;

@@ -107,6 +107,12 @@ ENTRIES = {
     "E0506": ("missing start", "A vehicle needs a `start` (or a trajectory with two waypoints or more)."),
     "E0507": ("more than one ego", "A scenario has at most one ego."),
     "E0508": ("expectation arity", "An expectation function got the wrong number of vehicles."),
+    "E0509": ("invalid expectation window",
+              "The time window at the end of an `expect` statement is not one: `during` needs an "
+              "interval `A .. B` with A before B, `after` and `before` one time; times are not "
+              "negative, not sampled or spread, and the window starts before the scenario's "
+              "timeout. `fallback_used`, `fallback_share` and `timeout()` are counted over the "
+              "whole run and take no window."),
     "E0510": ("map file not found", "The map's `file` does not exist (paths are relative to the .sdv file)."),
     "E0901": ("inconsistent indentation (.btree)",
               "A line of a GeoScenario behavior tree closes a block at an indentation that no "

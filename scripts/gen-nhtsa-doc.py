@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Generates the table of docs/nhtsa.md from real runs: for every NHTSA scenario (the cut-in of
 examples/cut_in.sdv is typology 18), the roads and trees it uses, the outcome of its run (the
-collision, or the smallest gap and time to collision between the ego and the other vehicles)
-and its internal reuse level from `sdv reuse`. CI checks the committed file is up to date:
+collision, or the smallest outline clearance, same-lane bumper gap and time to collision between
+the ego and the other vehicles) and its internal reuse level from `sdv reuse`. CI checks the
+committed file is up to date:
 
     scripts/gen-nhtsa-doc.py build/dev/sdv            # rewrite the table in docs/nhtsa.md
     scripts/gen-nhtsa-doc.py build/dev/sdv --check    # exit 1 if it would change
@@ -43,9 +44,12 @@ with tempfile.TemporaryDirectory() as tmp:
             outcome = f"collision {' / '.join(e['vehicles'])} at {e['time']:.2f} s"
         else:
             pairs = [p for p in s["metrics"]["pairs"] if "ego" in p["vehicles"]]
-            gap = min(pairs, key=lambda p: p["min_gap"])
+            gap = min(pairs, key=lambda p: p["min_clearance"])
             ttc = min(p["min_ttc"] for p in pairs if p["min_ttc"] is not None) if any(p["min_ttc"] is not None for p in pairs) else None
-            outcome = f"min gap {gap['min_gap']:.2f} m ({' / '.join(gap['vehicles'])})" + (f", min TTC {ttc:.2f} s" if ttc is not None and ttc < 100 else "")
+            same_lane = [p["min_gap"] for p in pairs if p["min_gap"] is not None]
+            outcome = (f"min clearance {gap['min_clearance']:.2f} m ({' / '.join(gap['vehicles'])})"
+                       + (f", same-lane gap {min(same_lane):.2f} m" if same_lane else "")
+                       + (f", min TTC {ttc:.2f} s" if ttc is not None else ""))
         held = sum(e["passed"] for e in s["expectations"])
         rows.append([typology(f), f.relative_to(ROOT).as_posix(), road_text,
                      ", ".join(f"`{t}`" for t in trees + [l for l in local if l not in trees]), outcome,

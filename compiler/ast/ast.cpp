@@ -104,7 +104,11 @@ public:
                 for (const auto& p : l.phases) setting(2, p);
                 if (l.offset) line(2, l.offset->range, "offset " + value(*l.offset));
             }
-            for (const auto& e : s.expects) line(1, e->range, "expect " + expr(*e));
+            for (const auto& e : s.expects) {
+                std::string t = "expect " + expr(*e);
+                if (e->window) t += " " + e->window->keyword.text + " " + value(e->window->value);
+                line(1, e->range, t);
+            }
         }
         return out_.str();
     }

@@ -214,6 +214,14 @@ struct Expr {
     std::string cmp;  // "<", "<=", ">", ">=" or empty
     std::optional<Value> bound;
     SourceRange range;
+    // The time window of an `expect` statement, on its root expression only.
+    struct Window {
+        enum class Kind { during, after, before } kind = Kind::during;
+        Ident keyword;
+        Value value;
+        SourceRange range;  // keyword and value
+    };
+    std::optional<Window> window;
 };
 
 struct ScenarioDecl {

@@ -464,6 +464,27 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
         return fixed(std::atan2(q.y - p.y, q.x - p.x) * 180.0 / kPi, 2) + " deg";
     };
 
+    // The route's intermediate nodes, as the lanelets they lie in (direction from the node before
+    // to the node after): the route passes through them in order, as the reference's does. The
+    // map is read here only for that; a map that fails to load is reported when the scenario runs.
+    std::optional<road::LoadResult> map_net;
+    auto via_lanes = [&](const std::vector<GeoPoint>& route) {
+        std::vector<std::string> lanes;
+        if (route.size() < 3) return lanes;
+        if (!map_net) map_net = road::load_lanelet2(*map, origin);
+        if (!map_net->errors.empty() || !map_net->network) return lanes;
+        for (size_t i = 1; i + 1 < route.size(); ++i) {
+            const road::Vec2 p = road::project(origin, route[i].lat, route[i].lon);
+            const road::Vec2 a = road::project(origin, route[i - 1].lat, route[i - 1].lon);
+            const road::Vec2 b = road::project(origin, route[i + 1].lat, route[i + 1].lon);
+            const auto loc = map_net->network->locate(p, std::atan2(b.y - a.y, b.x - a.x));
+            if (loc.lane == road::kNoLane) continue;
+            const std::string& name = map_net->network->lane(loc.lane).name;
+            if (lanes.empty() || lanes.back() != name) lanes.push_back(name);
+        }
+        return lanes;
+    };
+
     const std::string stem = fs::path(path).filename().string().substr(0, fs::path(path).filename().string().find('.'));
     const std::string scen = ident(stem, "scenario");
     std::ostringstream out;
@@ -487,6 +508,11 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
             out << "        speed " << fixed(v.speed, 3) << " m/s\n";
             if (v.length != 4.5) out << "        length " << fixed(v.length, 3) << " m\n";
             if (v.width != 1.8) out << "        width " << fixed(v.width, 3) << " m\n";
+            if (const auto via = via_lanes(route); !via.empty()) {
+                out << "        route ";
+                for (size_t i = 0; i < via.size(); ++i) out << (i ? ", " : "") << "lane " << quoted(via[i]);
+                out << "\n";
+            }
             out << "        goal at " << xy(goal) << " heading " << heading(from, goal) << (v.goal_ends_simulation ? " ends run" : "") << "\n";
             out << "        tree " << tree_of.at(v.vid) << "()\n    }\n";
             all_sdv_goals.push_back(name);

@@ -219,6 +219,8 @@ private:
     void check_overlaps(const ast::ScenarioDecl& s, const ir::Scenario& sc);
     void check_light(const ast::LightDecl& l, ScenarioCtx& ctx);
     int32_t check_expr(const ast::Expr& e, ScenarioCtx& ctx);
+    // The window of an `expect` statement (its root expression `e`, lowered at `root`).
+    void check_window(const ast::Expr& e, int32_t root, ScenarioCtx& ctx);
 
     // ---------------------------------------------------------------- expansion (expand.cpp)
     int32_t expand_vehicle_tree(const ast::TreeRef& ref, ScenarioCtx& ctx, ir::Program& program);

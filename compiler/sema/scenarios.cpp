@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <functional>
 
 #include "compiler/sema/checker_internal.h"
 
@@ -92,7 +94,10 @@ void Checker::check_scenario(const ast::ScenarioDecl& s, ir::Program& program) {
     for (const auto& v : s.vehicles) sc.vehicles.push_back(check_vehicle(v, ctx, program));
     check_overlaps(s, sc);
     for (const auto& l : s.lights) check_light(l, ctx);
-    for (const auto& e : s.expects) sc.expect_roots.push_back(check_expr(*e, ctx));
+    for (const auto& e : s.expects) {
+        sc.expect_roots.push_back(check_expr(*e, ctx));
+        if (e->window) check_window(*e, sc.expect_roots.back(), ctx);
+    }
     program.scenarios.push_back(std::move(sc));
 }
 
@@ -418,6 +423,79 @@ int32_t Checker::check_expr(const ast::Expr& e, ScenarioCtx& ctx) {
     }
     ctx.ir->expects.push_back(std::move(out));
     return static_cast<int32_t>(ctx.ir->expects.size() - 1);
+}
+
+void Checker::check_window(const ast::Expr& e, int32_t root, ScenarioCtx& ctx) {
+    using Kind = ast::Expr::Window::Kind;
+    const ast::Expr::Window& w = *e.window;
+    ir::Expect& out = ctx.ir->expects[static_cast<size_t>(root)];
+    // The statement's text includes its window: reports and `sdv diff` show it.
+    out.text = std::string(sm_.contents(e.range.begin.file)
+                               .substr(e.range.begin.offset, w.range.end.offset - e.range.begin.offset));
+    const std::string& word = w.keyword.text;
+    const ast::Value& v = w.value;
+    const bool interval = v.kind == ast::Value::Kind::interval;
+    if (v.spread || v.samples) {
+        error("E0509", v.range, "a window cannot be spread or sampled")
+            ->notes.push_back({{}, "write plain times, e.g. during 5 s .. 20 s"});
+        return;
+    }
+    if (v.kind == ast::Value::Kind::list || interval != (w.kind == Kind::during)) {
+        auto* d = error("E0509", v.range,
+                        w.kind == Kind::during ? "'during' takes an interval of times"
+                                               : "'" + word + "' takes one time");
+        d->notes.push_back({{}, w.kind == Kind::during ? "e.g. during 5 s .. 20 s" : "e.g. " + word + " 5 s"});
+        return;
+    }
+    auto time = [&](const ast::Primary& p) -> std::optional<double> {
+        auto t = to_si(p, Dim::time, "the window of an expectation");
+        if (t && *t < 0) {
+            error("E0509", p.range, "a window time cannot be negative")
+                ->notes.push_back({{}, "times count from the start of the run, 0 s"});
+            return std::nullopt;
+        }
+        return t;
+    };
+    std::optional<double> lo, hi;
+    if (w.kind == Kind::during) {
+        lo = time(v.lo);
+        hi = time(*v.hi);
+        if (!lo || !hi) return;
+        if (*lo >= *hi) {
+            error("E0509", v.range, "empty window: it ends before it starts")
+                ->notes.push_back({{}, "write the earlier time first, e.g. during 5 s .. 20 s"});
+            return;
+        }
+    } else {
+        auto t = time(v.lo);
+        if (!t) return;
+        (w.kind == Kind::after ? lo : hi) = t;
+    }
+    if (lo && *lo >= ctx.ir->timeout) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "the window starts at %g s, at or after the scenario's timeout (%g s)", *lo,
+                      ctx.ir->timeout);
+        error("E0509", v.range, buf)->notes.push_back({{}, "nothing is measured after the run ends"});
+        return;
+    }
+    // Whole-run counts cannot be restricted to a window.
+    bool windowable = true;
+    std::function<void(const ast::Expr&)> visit = [&](const ast::Expr& x) {
+        if (x.lhs) visit(*x.lhs);
+        if (x.rhs) visit(*x.rhs);
+        if (x.kind != ast::Expr::Kind::call) return;
+        const auto* f = catalog::find_expectation(x.function.text);
+        if (f == nullptr || f->windowed) return;
+        windowable = false;
+        error("E0509", x.function.range, "'" + f->name + "' is counted over the whole run; it takes no window")
+            ->notes.push_back({w.range, "the window is here"});
+    };
+    visit(e);
+    if (!windowable) return;
+    out.after = lo;
+    out.before = hi;
+    out.window = std::string(sm_.contents(w.range.begin.file)
+                                 .substr(w.range.begin.offset, w.range.end.offset - w.range.begin.offset));
 }
 
 }  // namespace sdv::compiler::sema

@@ -653,7 +653,19 @@ private:
                 }
                 s.lights.push_back(std::move(l));
             } else if (auto* ex = dynamic_cast<SdvParser::ScenarioExpectContext*>(st)) {
-                s.expects.push_back(expr(ex->expr()));
+                auto e = expr(ex->expr());
+                if (auto* w = ex->window()) {
+                    ast::Expr::Window win;
+                    Token* k = w->getStart();
+                    win.kind = w->DURING() ? ast::Expr::Window::Kind::during
+                               : w->AFTER() ? ast::Expr::Window::Kind::after
+                                            : ast::Expr::Window::Kind::before;
+                    win.keyword = {k->getText(), range(k)};
+                    win.value = value(w->value());
+                    win.range = range(w);
+                    e->window = std::move(win);
+                }
+                s.expects.push_back(std::move(e));
             }
         }
         return s;

@@ -195,7 +195,10 @@ std::vector<ManeuverDef> build_maneuvers() {
                                                                      "leader", true)),
          sets(ConfigField::time_gap, qty("time_gap", Dim::time, DefaultValue{3}, 0, 60, "time headway kept to the leader")),
          sets(ConfigField::stop_distance, qty("stop_distance", Dim::length, DefaultValue{3}, 0, 100,
-             "bumper gap kept to a stopped leader"))}));
+             "bumper gap kept to a stopped leader")),
+         sets(ConfigField::follow_speed, opt_qty("speed", Dim::speed, 0, kMaxSpeed,
+             "the driver's own speed: never faster behind a faster leader, and the pace at which "
+             "it closes in on a distant one (default: the leader's speed + 3 m/s)"))}));
     ms.push_back(make_maneuver(
         "lane_change", ManeuverKind::lane_change,
         "change to the neighbour lane (or swerve inside the lane with lat_offset) keeping the "
@@ -228,6 +231,9 @@ std::vector<ManeuverDef> build_maneuvers() {
                      "s along the lane to stop at (with at = position)")),
              sets(ConfigField::stop_before, qty("distance", Dim::length, DefaultValue{0}, 0, 100,
                  "stop this far before the target")),
+             sets(ConfigField::stop_decel, qty("decel", Dim::accel, DefaultValue{3}, 0, kMaxAcc,
+                 "peak deceleration of a stop `now` (with duration_factor 1); it stops "
+                 "1.875·v²/(2·decel) ahead", true)),
              sets(ConfigField::duration_factor, sampled("duration_factor", Dim::none, 1, 40, 6, 0, 10,
                      "duration as a factor of 2·Δs/v", true))},
             30);
@@ -374,25 +380,67 @@ std::vector<ConditionDef> build_conditions() {
 }
 
 std::vector<ExpectDef> build_expectations() {
+    // name, kind, vehicles min/max, result, boolean, windowed, label, none, meaning. Pair metrics
+    // are symmetric; a minimum never measured (never in the same lane, never closing, never
+    // side by side) is none: it compares as +infinity and is null in summary.json.
     return {
-        {"collision", ExpectKind::collision, 0, 2, Dim::none, true,
-         "a collision happened (between the given vehicles, or involving one, or any)"},
-        {"no_collision", ExpectKind::no_collision, 0, 0, Dim::none, true, "no collision at all"},
-        {"reached_goal", ExpectKind::reached_goal, 1, 1, Dim::none, true,
-         "the vehicle reached its goal"},
-        {"min_gap", ExpectKind::min_gap, 2, 2, Dim::length, false,
-         "smallest bumper gap between two vehicles over the run"},
-        {"min_ttc", ExpectKind::min_ttc, 2, 2, Dim::time, false,
-         "smallest time to collision between two vehicles"},
-        {"min_headway", ExpectKind::min_headway, 2, 2, Dim::time, false,
-         "smallest time headway between two vehicles"},
-        {"max_jerk", ExpectKind::max_jerk, 1, 1, Dim::jerk, false, "largest |jerk| of a vehicle"},
-        {"max_acc", ExpectKind::max_acc, 1, 1, Dim::accel, false,
-         "largest |acceleration| of a vehicle"},
-        {"max_speed", ExpectKind::max_speed, 1, 1, Dim::speed, false, "largest speed"},
-        {"fallback_used", ExpectKind::fallback_used, 1, 1, Dim::none, true,
-         "the vehicle needed the emergency fallback"},
-        {"timeout", ExpectKind::timeout, 0, 0, Dim::none, true, "the run ended at its timeout"},
+        {"collision", ExpectKind::collision, 0, 2, Dim::none, true, true, "collision", "",
+         "a collision started (between the given vehicles, or involving one, or any); in a "
+         "window: one that started in it"},
+        {"no_collision", ExpectKind::no_collision, 0, 0, Dim::none, true, true, "collision", "",
+         "no collision at all; in a window: none started in it"},
+        {"reached_goal", ExpectKind::reached_goal, 1, 1, Dim::none, true, true, "goal reached",
+         "",
+         "the vehicle reached (or overshot) its goal; with a window: at a time in it "
+         "(`before 20 s`: by 20 s)"},
+        {"min_clearance", ExpectKind::min_clearance, 2, 2, Dim::length, false, true,
+         "outline clearance", "not measured",
+         "smallest outline clearance: the distance between the two footprints in any direction "
+         "(0 when they touch), whatever their lanes"},
+        {"min_gap", ExpectKind::min_gap, 2, 2, Dim::length, false, true, "same-lane bumper gap",
+         "never in the same lane",
+         "smallest bumper gap along the lane (rear bumper of the one ahead minus front bumper of "
+         "the one behind), measured only while both centres are in the same lane (or the one "
+         "ahead in the lane that directly follows); none when never in the same lane"},
+        {"min_lateral", ExpectKind::min_lateral, 2, 2, Dim::length, false, true,
+         "lateral clearance", "never side by side",
+         "smallest lateral clearance: the distance between the footprints across the heading of "
+         "either vehicle, while they overlap along it (side by side); none when never side by "
+         "side"},
+        {"min_ttc", ExpectKind::min_ttc, 2, 2, Dim::time, false, true,
+         "same-lane time to collision", "never closing",
+         "smallest time to collision: same-lane bumper gap over the closing speed along the lane, "
+         "while the one behind is faster by more than 0.1 m/s; none when never closing"},
+        {"min_headway", ExpectKind::min_headway, 2, 2, Dim::time, false, true,
+         "same-lane time headway", "never following",
+         "smallest time headway: same-lane bumper gap over the speed along the lane of the one "
+         "behind, while it drives forward; none when never following"},
+        {"max_jerk", ExpectKind::max_jerk, 1, 1, Dim::jerk, false, true, "largest |jerk|",
+         "not measured",
+         "largest absolute jerk: the rate of change of the longitudinal acceleration"},
+        {"min_acc", ExpectKind::min_acc, 1, 1, Dim::accel, false, true,
+         "smallest longitudinal acceleration", "not measured",
+         "smallest signed longitudinal acceleration: the hardest braking is the most negative "
+         "value (`min_acc(v) < -3 m/s²` requires braking harder than 3 m/s²)"},
+        {"max_acc", ExpectKind::max_acc, 1, 1, Dim::accel, false, true,
+         "largest longitudinal acceleration", "not measured",
+         "largest signed longitudinal acceleration: speeding up is positive, braking never "
+         "counts"},
+        {"min_speed", ExpectKind::min_speed, 1, 1, Dim::speed, false, true,
+         "smallest signed speed", "not measured",
+         "smallest signed speed along the vehicle's heading (negative when reversing)"},
+        {"max_speed", ExpectKind::max_speed, 1, 1, Dim::speed, false, true,
+         "largest signed speed", "not measured",
+         "largest signed speed along the vehicle's heading (reversing is negative)"},
+        {"fallback_used", ExpectKind::fallback_used, 1, 1, Dim::none, true, false, "fallback",
+         "",
+         "some planning cycle of the vehicle found no feasible candidate (whole run)"},
+        {"fallback_share", ExpectKind::fallback_share, 1, 1, Dim::ratio, false, false,
+         "share of fallback plans", "",
+         "share of the vehicle's planning cycles that found no feasible candidate (fallback "
+         "plans / plans; 0 without plans; whole run)"},
+        {"timeout", ExpectKind::timeout, 0, 0, Dim::none, true, false, "timeout", "",
+         "the run ended at its timeout (whole run)"},
     };
 }
 
@@ -567,6 +615,8 @@ nlohmann::ordered_json to_json() {
         ej["name"] = e.name;
         ej["vehicles"] = {e.min_vehicles, e.max_vehicles};
         ej["result"] = e.boolean ? "bool" : std::string(to_string(e.result));
+        ej["windowed"] = e.windowed;
+        ej["label"] = e.label;
         ej["doc"] = e.doc;
         j["expectations"].push_back(ej);
     }
@@ -608,8 +658,8 @@ std::string render_text() {
     }
     out << "\nEXPECTATIONS\n";
     for (const auto& e : expectations()) {
-        out << "  " << e.name << " -> " << (e.boolean ? "bool" : to_string(e.result)) << "  "
-            << e.doc << "\n";
+        out << "  " << e.name << " -> " << (e.boolean ? "bool" : to_string(e.result))
+            << (e.windowed ? "" : "  (whole run)") << "\n    " << e.doc << "\n";
     }
     return out.str();
 }
@@ -655,10 +705,16 @@ std::string render_markdown() {
         out << "\n\n";
         if (!c.params.empty()) table(c.params, false);
     }
-    out << "## Expectations\n\n| function | vehicles | result | meaning |\n|---|---|---|---|\n";
+    out << "## Expectations\n\n"
+        << "Functions of `expect` statements (docs/language.md, Expectations). A minimum that was "
+           "never measured is none: it compares as +infinity (`< X` fails, `> X` holds) and is "
+           "`null` in summary.json. *window*: whether the function can be restricted to a time "
+           "window (`after`, `before`, `during`).\n\n"
+        << "| function | vehicles | result | window | meaning |\n|---|---|---|---|---|\n";
     for (const auto& e : expectations()) {
         out << "| `" << e.name << "` | " << e.min_vehicles << "–" << e.max_vehicles << " | "
-            << (e.boolean ? "bool" : to_string(e.result)) << " | " << e.doc << " |\n";
+            << (e.boolean ? "bool" : to_string(e.result)) << " | " << (e.windowed ? "yes" : "no")
+            << " | " << e.doc << " |\n";
     }
     out << "\n## Units\n\n| unit | dimension | factor to SI |\n|---|---|---|\n";
     for (const auto& u : all_units()) {

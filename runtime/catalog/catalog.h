@@ -51,8 +51,8 @@ enum class ConfigField {
     // common: lateral
     lat_offset, eval_points,
     // kind-specific
-    speed, duration, max_speed_change, time_gap, stop_distance, lane, delta_s, delta_v, delta_a,
-    stop_at, stop_position, stop_before, duration_factor,
+    speed, duration, max_speed_change, time_gap, stop_distance, follow_speed, lane, delta_s, delta_v, delta_a,
+    stop_at, stop_position, stop_before, stop_decel, duration_factor,
     // resolved by the runtime into the plan request
     leader, target,
 };
@@ -127,19 +127,25 @@ struct ConditionDef {
     const ParamDef* find_param(std::string_view name) const;
 };
 
-// Functions usable in `expect` statements.
+// Functions usable in `expect` statements. The order is that of expectations(): the IR stores
+// a function as its index there.
 enum class ExpectKind {
-    collision,     // collision(a, b) / collision(a) / collision(): bool
-    no_collision,  // no_collision(): bool
-    reached_goal,  // reached_goal(v): bool
-    min_gap,       // min_gap(a, b): length
-    min_ttc,       // min_ttc(a, b): time
-    min_headway,   // min_headway(a, b): time
-    max_jerk,      // max_jerk(v): jerk
-    max_acc,       // max_acc(v): acceleration
-    max_speed,     // max_speed(v): speed
-    fallback_used, // fallback_used(v): bool
-    timeout,       // timeout(): bool
+    collision,       // collision(a, b) / collision(a) / collision(): bool
+    no_collision,    // no_collision(): bool
+    reached_goal,    // reached_goal(v): bool
+    min_clearance,   // min_clearance(a, b): length, outline clearance in any direction
+    min_gap,         // min_gap(a, b): length, same-lane bumper gap along the lane
+    min_lateral,     // min_lateral(a, b): length, lateral clearance while side by side
+    min_ttc,         // min_ttc(a, b): time, same lane, closing along the lane
+    min_headway,     // min_headway(a, b): time, same lane
+    max_jerk,        // max_jerk(v): jerk, largest |jerk|
+    min_acc,         // min_acc(v): acceleration, most negative (hardest braking)
+    max_acc,         // max_acc(v): acceleration, largest positive
+    min_speed,       // min_speed(v): speed, signed (reverse is negative)
+    max_speed,       // max_speed(v): speed, signed
+    fallback_used,   // fallback_used(v): bool
+    fallback_share,  // fallback_share(v): ratio of plans without a feasible candidate
+    timeout,         // timeout(): bool
 };
 
 struct ExpectDef {
@@ -149,6 +155,13 @@ struct ExpectDef {
     int max_vehicles = 0;
     Dim result = Dim::none;  // none with boolean = true
     bool boolean = false;
+    // Measured per tick or from timed events, so it can be restricted to a time window
+    // (`after`, `before`, `during`); false: a whole-run count.
+    bool windowed = true;
+    // The metric in a few words, for reports: a quantity ("same-lane bumper gap") or, for a
+    // boolean, the event it looks for ("collision").
+    std::string label;
+    std::string none;  // what a quantity without value means ("never closing")
     std::string doc;
 };
 

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "runtime/catalog/catalog.h"
+
 namespace sdv::io {
 namespace {
 
@@ -20,6 +22,33 @@ Json num(double v, int digits = 4) {
     double r = std::round(v * k) / k;
     if (r == 0) r = 0;  // no -0
     return r;
+}
+
+// The catalog entry of a part's function.
+const catalog::ExpectDef& def_of(const sim::ExpectPart& part) {
+    return catalog::expectations()[static_cast<size_t>(part.function)];
+}
+
+// "12.053 m", "4.2 %": a measured value in its SI unit.
+std::string quantity_text(double v, catalog::Dim dim) {
+    char buf[64];
+    if (dim == catalog::Dim::ratio) {
+        std::snprintf(buf, sizeof buf, "%.1f %%", 100 * v);
+    } else {
+        std::snprintf(buf, sizeof buf, "%.3f %s", v, std::string(catalog::si_unit(dim)).c_str());
+    }
+    return buf;
+}
+
+// What a part measured, in words: "same-lane bumper gap 12.053 m", "never closing",
+// "collision at 12.30 s", "no collision".
+std::string measured_text(const sim::ExpectPart& part) {
+    const auto& d = def_of(part);
+    if (!d.boolean) return part.value ? d.label + " " + quantity_text(*part.value, d.result) : d.label + ": " + d.none;
+    if (!part.time) return "no " + d.label;
+    char buf[32];
+    std::snprintf(buf, sizeof buf, " at %.2f s", *part.time);
+    return d.label + buf;
 }
 
 double pct(std::vector<double> v, double p) {
@@ -44,11 +73,37 @@ std::string summary_json(const ir::Program& p, int scenario, const sim::RunResul
     j["passed"] = r.passed();
     if (!r.error.empty()) j["error"] = r.error;
     j["expectations"] = Json::array();
-    for (const auto& e : r.expectations) {
+    for (size_t k = 0; k < r.expectations.size(); ++k) {
+        const auto& e = r.expectations[k];
         Json ej;
         ej["expect"] = e.text;
         ej["passed"] = e.passed;
         if (e.value) ej["value"] = num(*e.value);
+        if (k < sc.expect_roots.size()) {
+            const ir::Expect& root = sc.expects[static_cast<size_t>(sc.expect_roots[k])];
+            if (root.after || root.before) {
+                ej["window"] = {{"after", root.after ? num(*root.after) : Json(nullptr)},
+                                {"before", root.before ? num(*root.before) : Json(nullptr)}};
+            }
+        }
+        // Every call of the expression: the metric it checks and what it measured.
+        Json parts = Json::array();
+        for (const auto& part : e.parts) {
+            const auto& d = def_of(part);
+            Json pj;
+            pj["call"] = part.text;
+            pj["metric"] = d.name;
+            pj["holds"] = part.holds;
+            if (d.boolean) {
+                pj["time"] = part.time ? num(*part.time) : Json(nullptr);
+            } else {
+                pj["value"] = part.value ? num(*part.value) : Json(nullptr);
+                pj["unit"] = d.result == catalog::Dim::ratio ? "ratio" : std::string(catalog::si_unit(d.result));
+                if (!part.value) pj["none"] = d.none;
+            }
+            parts.push_back(pj);
+        }
+        ej["parts"] = parts;
         ej["line"] = e.loc.line;
         j["expectations"].push_back(ej);
     }
@@ -70,7 +125,9 @@ std::string summary_json(const ir::Program& p, int scenario, const sim::RunResul
     for (const auto& m : r.pairs) {
         Json pj;
         pj["vehicles"] = {sc.vehicles[static_cast<size_t>(m.a)].name, sc.vehicles[static_cast<size_t>(m.b)].name};
+        pj["min_clearance"] = num(m.min_clearance);
         pj["min_gap"] = num(m.min_gap);
+        pj["min_lateral"] = num(m.min_lateral);
         pj["min_ttc"] = num(m.min_ttc);
         pj["min_headway"] = num(m.min_headway);
         pairs.push_back(pj);
@@ -82,12 +139,17 @@ std::string summary_json(const ir::Program& p, int scenario, const sim::RunResul
         vj["vehicle"] = sc.vehicles[i].name;
         vj["length"] = sc.vehicles[i].length;
         vj["width"] = sc.vehicles[i].width;
+        vj["min_speed"] = num(m.min_speed);
         vj["max_speed"] = num(m.max_speed);
+        vj["min_acc"] = num(m.min_acc);
         vj["max_acc"] = num(m.max_acc);
         vj["max_jerk"] = num(m.max_jerk);
         vj["reached_goal"] = m.reached_goal;
         vj["fallback_used"] = m.fallback_used;
         vj["plans"] = m.plans;
+        vj["fallback_plans"] = m.fallback_plans;
+        vj["fallback_share"] = num(m.fallback_share());
+        vj["longest_stall_s"] = num(m.longest_stall_s);
         vehicles.push_back(vj);
     }
     j["metrics"] = {{"pairs", pairs}, {"vehicles", vehicles}};
@@ -148,13 +210,18 @@ std::string report(const ir::Program& p, int scenario, const sim::RunResult& r) 
         }
         o << "\n";
     }
+    // A single call shows what it measured on its line; a compound one, every part below it.
     for (const auto& e : r.expectations) {
         o << "  " << (e.passed ? "PASS" : "FAIL") << "  expect " << e.text;
-        if (e.value) {
-            std::snprintf(buf, sizeof buf, "  (value %.3f)", *e.value);
-            o << buf;
+        const bool single = e.parts.size() == 1 && e.parts[0].holds == e.passed;
+        if (single) {
+            o << "  (" << measured_text(e.parts[0]) << ")\n";
+            continue;
         }
         o << "\n";
+        for (const auto& part : e.parts) {
+            o << "          " << part.text << " is " << (part.holds ? "true" : "false") << "  (" << measured_text(part) << ")\n";
+        }
     }
     size_t passed = 0;
     for (const auto& e : r.expectations) passed += e.passed;

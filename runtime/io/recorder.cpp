@@ -44,7 +44,9 @@ std::string decision_line(const sim::World& w, const sim::Agent& a, const sim::P
         o << (c ? "," : "") << "\"" << planner::to_string(static_cast<planner::RejectCause>(c)) << "\":" << rec.rejections[c];
     }
     const auto& wc = rec.winner_cost;
-    o << "},\"winner\":" << rec.winner << ",\"fallback\":" << (rec.fallback ? "true" : "false") << ",\"cost\":{\"time\":" << fmt(wc.time)
+    o << "},\"winner\":" << rec.winner << ",\"fallback\":" << (rec.fallback ? "true" : "false");
+    if (tr.fallback) o << ",\"fallback_kind\":\"" << tr.fallback << "\"";
+    o << ",\"cost\":{\"time\":" << fmt(wc.time)
       << ",\"efficiency\":" << fmt(wc.efficiency) << ",\"lane_offset\":" << fmt(wc.lane_offset) << ",\"long_jerk\":" << fmt(wc.long_jerk)
       << ",\"lat_jerk\":" << fmt(wc.lat_jerk) << ",\"long_acc\":" << fmt(wc.long_acc) << ",\"lat_acc\":" << fmt(wc.lat_acc)
       << ",\"proximity\":" << fmt(wc.proximity) << ",\"total\":" << fmt(wc.total) << "}";

@@ -175,6 +175,10 @@ struct Expect {
     std::string cmp;                // "<", "<=", ">", ">=" or empty
     double bound = 0.0;             // SI
     std::string text;               // as written, for messages
+    // The time window of an `expect` statement (on its root only): the metrics and events
+    // of ticks with after <= t <= before count. Unset: from the start / to the end.
+    std::optional<double> after, before;
+    std::string window;  // as written ("during 5 s .. 20 s"); `text` ends with it
     SourceLoc loc;
 };
 

@@ -224,6 +224,11 @@ Json program_json(const Program& p) {
             ej["cmp"] = e.cmp;
             ej["bound"] = e.bound;
             ej["text"] = e.text;
+            if (e.after || e.before) {
+                ej["window"] = {{"after", e.after ? Json(*e.after) : Json(nullptr)},
+                                {"before", e.before ? Json(*e.before) : Json(nullptr)},
+                                {"text", e.window}};
+            }
             ej["loc"] = loc_json(e.loc);
             sj["expects"].push_back(ej);
         }
@@ -594,6 +599,22 @@ public:
             if (!e.cmp.empty() && e.cmp != "<" && e.cmp != "<=" && e.cmp != ">" && e.cmp != ">=") fail(ep + ".cmp: unknown comparison");
             e.bound = number(field(ej, "bound", ep), ep + ".bound");
             e.text = string(field(ej, "text", ep), ep + ".text");
+            if (has(ej, "window")) {
+                const std::string wp = ep + ".window";
+                const Json& w = ej["window"];
+                if (!w.is_object()) fail(wp + ": expected an object");
+                for (const char* key : {"after", "before"}) {
+                    const Json& b = field(w, key, wp);
+                    if (b.is_null()) continue;
+                    const double t = number(b, wp + "." + key);
+                    if (!(t >= 0)) fail(wp + "." + key + ": a time must not be negative");
+                    (std::string(key) == "after" ? e.after : e.before) = t;
+                }
+                if (!e.after && !e.before) fail(wp + ": neither 'after' nor 'before'");
+                if (e.after && e.before && *e.after >= *e.before) fail(wp + ": empty window");
+                e.window = string(field(w, "text", wp), wp + ".text");
+                if (e.window.empty() || !e.text.ends_with(e.window)) fail(wp + ".text: not the end of the expectation's text");
+            }
             e.loc = loc(field(ej, "loc", ep), ep + ".loc", nf);
             s.expects.push_back(std::move(e));
         }

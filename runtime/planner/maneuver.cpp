@@ -41,6 +41,7 @@ bool set_field(ManeuverConfig& c, catalog::ConfigField field, const Sampled& num
         case F::duration: c.duration = number; return true;
         case F::max_speed_change: c.max_speed_change = v; return true;
         case F::time_gap: c.time_gap = v; return true;
+        case F::follow_speed: c.follow_speed = v; return true;
         case F::stop_distance: c.stop_distance = v; return true;
         case F::lane: {
             // The choice's word names the target (the choices differ between maneuvers).
@@ -63,6 +64,7 @@ bool set_field(ManeuverConfig& c, catalog::ConfigField field, const Sampled& num
             return true;
         case F::stop_position: c.stop_position = v; return true;
         case F::stop_before: c.stop_before = v; return true;
+        case F::stop_decel: c.stop_decel = v; return true;
         case F::duration_factor: c.duration_factor = number; return true;
         case F::leader:
         case F::target:
@@ -120,6 +122,7 @@ std::string describe(const ManeuverConfig& c) {
     smp("duration", c.duration);
     num("max_speed_change", c.max_speed_change);
     num("time_gap", c.time_gap);
+    num("follow_speed", c.follow_speed);
     num("stop_distance", c.stop_distance);
     num("lane", static_cast<int>(c.lane));
     smp("delta_s", c.delta_s);
@@ -128,6 +131,7 @@ std::string describe(const ManeuverConfig& c) {
     num("stop_at", static_cast<int>(c.stop_at));
     if (c.stop_position) num("stop_position", *c.stop_position);
     num("stop_before", c.stop_before);
+    num("stop_decel", c.stop_decel);
     smp("duration_factor", c.duration_factor);
     return out;
 }

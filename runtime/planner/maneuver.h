@@ -34,12 +34,14 @@ struct ManeuverConfig {
     Sampled duration = Sampled::single(3);      // all but stop
     double max_speed_change = 8;                // keep_velocity
     double time_gap = 3, stop_distance = 3;     // follow
+    double follow_speed = 0;                    // follow: the driver's own speed (0: none)
     LaneTarget lane = LaneTarget::left;         // lane_change, cut_in
     Sampled delta_s = Sampled::single(10);      // cut_in
     double delta_v = 5, delta_a = 0;            // cut_in
     StopTarget stop_at = StopTarget::now;       // stop
     std::optional<double> stop_position;        // stop (at = position)
     double stop_before = 0;                     // stop
+    double stop_decel = 3;                      // stop (at = now)
     Sampled duration_factor = Sampled::single(1);  // stop
 };
 

@@ -4,18 +4,23 @@
 //   keep_velocity  s: quartic to speed v (|v − ṡ0| capped at max_speed_change), s̈ = 0
 //   follow         leader L at constant speed: s_L(T) = s_L + v_L T;
 //                  s: quintic to s_L(T) − (len_L + len)/2 − max(stop_distance, time_gap·v_L),
-//                  speed v_L, acc 0; if v_L < 1.5 m/s: stop behind it at stop_distance
+//                  speed v_L, acc 0; if v_L < 1.5 m/s: stop behind it at stop_distance;
+//                  a leader faster than `speed` (the driver's own): quartic to `speed`; one
+//                  beyond comfortable reach in T: quartic to min(speed, v_L + 3 m/s) (closing in)
 //   lane_change    s: quartic keeping the current speed (at least 2 m/s); d to the target lane's centre
 //   cut_in         target V: s_V(T) + 2·len + delta_s, speed v_V + delta_v, acc delta_a
-//   stop           s: quintic to (stop_s − distance, 0, 0), T = factor · 2Δs / max(ṡ0, 1 m/s)
-//                  (at least 1 s); `now` stops at ṡ0² / (2 · 3 m/s²) ahead
+//   stop           s: quintic to (stop_s − distance, 0, 0),
+//                  T = factor · min(2Δs / max(ṡ0, 1 m/s), √(5.77 Δs / 2 m/s²)) (at least 1 s):
+//                  from (near) rest it drives up to the point at up to 2 m/s², never crawls;
+//                  `now` stops 1.875·ṡ0² / (2 · decel) ahead (peak deceleration `decel`)
 //   reverse        s: quartic to −speed
 //   d: always quintic to (lat, 0, 0) at T.
 // Feasibility at eval_points evenly spaced times in [0, T], first failure recorded:
 //   |s⃛| > max_long_jerk, |d⃛| > max_lat_jerk, |s̈| > max_long_acc, |d̈| > max_lat_acc,
 //   collision (n = ⌈len/width⌉ circles per vehicle, radius √((len/2n)² + (width/2)²), plus a 0.3 m
-//   margin, against every
-//   obstacle's constant-velocity prediction), off-lane (own footprint d ± width/2 outside the
+//   margin, against every obstacle's constant-velocity prediction, except followers (vehicles
+//   entirely behind in the own lane at the start) and, at points where the candidate stands
+//   still, moving vehicles: avoiding those is their drivers' job), off-lane (own footprint d ± width/2 outside the
 //   current lane; not for lane_change / cut_in), direction (ṡ < −0.01 m/s; not for reverse).
 // Cost = Σ wᵢ · logistic(xᵢ), logistic(x) = 2 / (1 + e^−x) − 1, with
 //   time        |T − T_nominal| (s)
@@ -36,11 +41,24 @@ namespace sdv::planner {
 namespace {
 
 constexpr double kStopSpeed = 1.5;     // m/s: a slower leader is stopped behind
-constexpr double kComfortDecel = 3.0;  // m/s²: for stop(now)
 constexpr double kMinLaneChangeSpeed = 2.0;  // m/s
 // Added to the footprint circles: the circles ignore the heading, which tilts the box during
 // lane changes; the margin keeps the plan clear of the true (oriented) box.
 constexpr double kCollisionMargin = 0.3;  // m
+// Stops from (near) rest: the duration of a rest-to-rest quintic over Δs whose peak
+// acceleration is this (peak = 5.77·Δs/T²), so that a vehicle short of its stop point drives
+// up to it instead of crawling.
+constexpr double kStopAcc = 2.0;       // m/s²
+constexpr double kCloseInSpeed = 3.0;  // m/s faster than a distant leader while closing in
+constexpr double kInfSpeed = 1e9;
+constexpr double kStandingSpeed = 0.1;  // m/s
+
+// A vehicle entirely behind the planning one in its lane at the plan's start (a follower):
+// keeping its distance is its driver's job, so it vetoes no plan (SPEC §3.7, issue 14).
+bool is_follower(const Obstacle& o, const FrenetState& st, double length, double width) {
+    return !o.is_static && o.state.s + 0.5 * o.length_m < st.s - 0.5 * length &&
+           std::fabs(o.state.d - st.d) < 0.5 * (width + o.width_m);
+}
 
 double logistic(double x) { return 2.0 / (1.0 + std::exp(-x)) - 1.0; }
 
@@ -105,6 +123,31 @@ Trajectory plan_fallback(const FrenetState& start, double max_decel) {
     return tr;
 }
 
+bool stays_clear(const Trajectory& tr, double from, double horizon, const PlanRequest& req) {
+    const Footprint own = footprint(req.length_m, req.width_m);
+    constexpr int kPoints = 13;
+    for (int e = 0; e < kPoints; ++e) {
+        const double t = horizon * e / (kPoints - 1);
+        const FrenetState f = tr.at(from + t);
+        const bool standing = std::fabs(f.s_d) < kStandingSpeed && std::fabs(f.d_d) < kStandingSpeed;
+        for (const Obstacle& o : req.obstacles) {
+            if (is_follower(o, req.start, req.length_m, req.width_m)) continue;
+            // Standing still can be no one's fault: only moving can conflict.
+            if (standing) continue;
+            const double os = o.state.s + o.state.s_d * t, od = o.state.d + o.state.d_d * t;
+            if (std::fabs(os - f.s) > 0.5 * (req.length_m + o.length_m) + 6.0 || std::fabs(od - f.d) > 6.0) continue;
+            const Footprint of = footprint(o.length_m, o.width_m);
+            for (int ia = 0; ia < own.n; ++ia) {
+                for (int ib = 0; ib < of.n; ++ib) {
+                    const double ds = (f.s + own.offset[ia]) - (os + of.offset[ib]), dd = f.d - od;
+                    if (std::sqrt(ds * ds + dd * dd) - own.radius - of.radius - kCollisionMargin < 0) return false;
+                }
+            }
+        }
+    }
+    return true;
+}
+
 PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
     PlanResult result;
     const ManeuverConfig& cfg = *req.config;
@@ -156,14 +199,29 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
     // Stop distance for stop(now); the resolved point otherwise.
     double stop_point = req.stop_s - cfg.stop_before;
     if (cfg.kind == ManeuverKind::stop && cfg.stop_at == StopTarget::now) {
-        stop_point = st.s + std::max(0.0, st.s_d) * std::max(0.0, st.s_d) / (2 * kComfortDecel);
+        // A quintic stop over Δs from v peaks at 1.875·v²/(2Δs): this Δs peaks at `decel`.
+        stop_point = st.s + 1.875 * std::max(0.0, st.s_d) * std::max(0.0, st.s_d) / (2 * std::max(cfg.stop_decel, 0.1));
     }
     const double nominal_T = cfg.duration.value;
+    // follow: a leader beyond reach is closed in on at the driver's pace (decided once per plan,
+    // at the nominal duration): its position asks for a mean speed above both speeds + 3 m/s.
+    bool leader_beyond = false;
+    if (cfg.kind == ManeuverKind::follow && leader != nullptr && leader->state.s_d >= kStopSpeed) {
+        const double vl = leader->state.s_d;
+        const double ts = leader->state.s + vl * nominal_T - 0.5 * (leader->length_m + req.length_m) -
+                          std::max(cfg.stop_distance, cfg.time_gap * vl);
+        leader_beyond = (ts - st.s) / nominal_T > std::max(st.s_d, vl) + kCloseInSpeed;
+    }
     const Footprint own = footprint(req.length_m, req.width_m);
     // Obstacle footprints once per plan, not per candidate and point (reused buffer).
     thread_local std::vector<Footprint> footprints;
+    thread_local std::vector<char> vetoes;
     footprints.clear();
-    for (const Obstacle& o : req.obstacles) footprints.push_back(footprint(o.length_m, o.width_m));
+    vetoes.clear();
+    for (const Obstacle& o : req.obstacles) {
+        footprints.push_back(footprint(o.length_m, o.width_m));
+        vetoes.push_back(is_follower(o, st, req.length_m, req.width_m) ? 0 : 1);
+    }
     const int n_eval = std::max(2, k.eval_points);
 
     double best = std::numeric_limits<double>::infinity();
@@ -203,6 +261,7 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
                         }
                         const double vl = leader->state.s_d;
                         const double half = 0.5 * (leader->length_m + req.length_m);
+                        const double cap = cfg.follow_speed > 0 ? cfg.follow_speed : kInfSpeed;
                         double ts;
                         if (vl < kStopSpeed) {
                             ts = leader->state.s + vl * T - half - cfg.stop_distance;
@@ -210,6 +269,15 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
                         } else {
                             ts = leader->state.s + vl * T - half - std::max(cfg.stop_distance, cfg.time_gap * vl);
                             target_v = vl;
+                        }
+                        // A leader faster than the driver wants to go, or beyond reach in T at
+                        // a comfortable pace: drive at the driver's speed (closing in), not
+                        // after the leader's position.
+                        const double close_v = std::min(cap, std::max(vl, 0.0) + kCloseInSpeed);
+                        if (vl > cap || leader_beyond) {
+                            target_v = vl > cap ? cap : close_v;
+                            sp = Poly::quartic(st.s, st.s_d, st.s_dd, target_v, 0.0, T);
+                            break;
                         }
                         cand.target_s = ts;
                         sp = Poly::quintic(st.s, st.s_d, st.s_dd, ts, target_v, 0.0, T);
@@ -230,9 +298,11 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
                     }
                     case ManeuverKind::stop: {
                         const double ds = std::max(0.0, stop_point - st.s);
-                        T = std::max(1.0, b_val * 2.0 * ds / std::max(st.s_d, 1.0));
-                        cand.target_s = st.s + ds;
-                        sp = Poly::quintic(st.s, st.s_d, st.s_dd, st.s + ds, 0.0, 0.0, T);
+                        const double t_rest = std::sqrt(5.77 * ds / kStopAcc);
+                        T = std::max(1.0, b_val * std::min(2.0 * ds / std::max(st.s_d, 1.0), t_rest));
+                        const double stop_ds = ds;
+                        cand.target_s = st.s + stop_ds;
+                        sp = Poly::quintic(st.s, st.s_d, st.s_dd, st.s + stop_ds, 0.0, 0.0, T);
                         break;
                     }
                 }
@@ -282,7 +352,11 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
                         }
                         const double clear = std::sqrt(min_d2) - own.radius - of.radius - kCollisionMargin;
                         min_clear = std::min(min_clear, clear);
-                        if (k.collision && clear < 0) {
+                        // A moving vehicle predicted into one standing still is its own
+                        // driver's conflict, not a reason to reject standing still.
+                        const bool standing = std::fabs(sp.v(t)) < kStandingSpeed && std::fabs(dp.v(t)) < kStandingSpeed;
+                        const bool moving = std::fabs(o.state.s_d) + std::fabs(o.state.d_d) > kStandingSpeed;
+                        if (k.collision && clear < 0 && vetoes[oi] && !(standing && moving)) {
                             cause = RejectCause::collision;
                             break;
                         }

@@ -101,4 +101,10 @@ PlanResult plan(const PlanRequest& request, PlanWorkspace& workspace);
 // Emergency brake within max_long_acc, straight in d (used when nothing is feasible).
 Trajectory plan_fallback(const FrenetState& start, double max_decel);
 
+// Whether `trajectory`, from its time `from` for `horizon` seconds, stays clear of the
+// request's obstacles (their constant-velocity predictions from the request's start), with the
+// planner's footprints and margin. Followers, and every point at which it stands still, are
+// never in conflict.
+bool stays_clear(const Trajectory& trajectory, double from, double horizon, const PlanRequest& request);
+
 }  // namespace sdv::planner

@@ -233,12 +233,34 @@ FrenetState ReferenceLine::project(Vec2 p, double hint) const {
         // Beyond the ends the line continues straight along its end tangents.
         if (ia == 0 && g(a) < 0) a = s_.front() - 1e4;
         if (ib == segments && g(b) > 0) b = s_.back() + 1e4;
-        const double ga = g(a), gb = g(b);
+        double ga = g(a), gb = g(b);
         if (!(ga >= 0 && gb <= 0)) continue;
+        // Regula falsi with the Illinois rule: g is nearly linear on a bracket this small, so a
+        // few steps reach 1e-10 m; bisection guards against a slow side.
+        int side = 0;
         for (int it = 0; it < 100 && b - a > 1e-10; ++it) {
-            const double m = 0.5 * (a + b);
-            if (g(m) > 0) a = m;
-            else b = m;
+            double m = ga - gb > 0 ? a + ga * (b - a) / (ga - gb) : 0.5 * (a + b);
+            if (!(m > a && m < b) || it % 8 == 7) m = 0.5 * (a + b);
+            const double gm = g(m);
+            if (gm == 0) {
+                a = b = m;
+                break;
+            }
+            if (gm > 0) {
+                a = m;
+                ga = gm;
+                if (side == -1) gb *= 0.5;
+                side = -1;
+            } else {
+                b = m;
+                gb = gm;
+                if (side == 1) ga *= 0.5;
+                side = 1;
+            }
+            if (std::fabs(gm) < 1e-12) {
+                a = b = m;
+                break;
+            }
         }
         s = 0.5 * (a + b);
         solved = true;

@@ -144,12 +144,14 @@ void place(Agent& a, const road::CartesianState& c, std::optional<double> lane_h
     if (v > 0.05) {
         a.yaw = std::atan2(c.vy, c.vx);
         // A car's heading stays within a steering angle's reach of its lane, however slowly it
-        // moves sideways in the Frenet plan (reverse: the opposite direction).
+        // moves sideways in the Frenet plan. Moving against the lane (reverse) it still faces
+        // along the lane: its heading is opposite to its motion and its speed negative.
         if (lane_heading) {
             constexpr double kMaxRelative = 0.5;  // rad
-            const double fwd = *lane_heading + ((a.vx * std::cos(*lane_heading) + a.vy * std::sin(*lane_heading)) < 0 ? M_PI : 0.0);
-            const double rel = std::remainder(a.yaw - fwd, 2 * M_PI);
-            a.yaw = fwd + std::clamp(rel, -kMaxRelative, kMaxRelative);
+            const bool reversing = a.vx * std::cos(*lane_heading) + a.vy * std::sin(*lane_heading) < 0;
+            if (reversing) a.yaw = std::atan2(-c.vy, -c.vx);
+            const double rel = std::remainder(a.yaw - *lane_heading, 2 * M_PI);
+            a.yaw = *lane_heading + std::clamp(rel, -kMaxRelative, kMaxRelative);
         }
     }
     // Signed speed: negative when moving against the heading (reverse).

@@ -2,12 +2,64 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "runtime/sim/collision.h"
 
 namespace sdv::sim {
+namespace {
 
-GroundTruth::GroundTruth(size_t n, RunResult& out) : out_(out), touching_(n, std::vector<bool>(n, false)) {
+// Faster than this along the lane than the one ahead, the one behind is closing in; slower
+// differences are numerical noise, not an approach (no TTC of thousands of seconds).
+constexpr double kClosing = 0.1;  // m/s
+// The one behind drives forward (headway is defined) above this speed along the lane.
+constexpr double kMoving = 0.1;  // m/s
+
+// A footprint with its heading as a unit vector (computed once per tick).
+struct Frame {
+    Vec2 centre, heading;
+    double length = 0, width = 0;
+    // Half the extent along a unit axis `u`.
+    double half_extent(Vec2 u) const {
+        return 0.5 * length * std::fabs(road::dot(heading, u)) + 0.5 * width * std::fabs(road::cross(heading, u));
+    }
+};
+
+// Lateral clearance of two footprints across the heading `h` of one of them: the gap between
+// them across it while they overlap along it (side by side); INFINITY when they do not.
+// `reach`: the sum of their half diagonals, a bound of the overlap along h.
+double lateral_clearance(const Frame& a, const Frame& b, Vec2 h, double reach) {
+    const Vec2 d = b.centre - a.centre;
+    const double along = std::fabs(road::dot(d, h));
+    if (along >= reach || along >= a.half_extent(h) + b.half_extent(h)) return INFINITY;
+    const Vec2 n{-h.y, h.x};
+    return std::max(0.0, std::fabs(road::dot(d, n)) - a.half_extent(n) - b.half_extent(n));
+}
+
+// What one tick measured of a pair (INFINITY: not measured at this tick).
+struct PairSample {
+    double clearance = INFINITY, gap = INFINITY, lateral = INFINITY, ttc = INFINITY, headway = INFINITY;
+};
+
+void fold(PairMetrics& m, const PairSample& s) {
+    m.min_clearance = std::min(m.min_clearance, s.clearance);
+    m.min_gap = std::min(m.min_gap, s.gap);
+    m.min_lateral = std::min(m.min_lateral, s.lateral);
+    m.min_ttc = std::min(m.min_ttc, s.ttc);
+    m.min_headway = std::min(m.min_headway, s.headway);
+}
+
+void fold(VehicleMetrics& m, const Agent& a, std::optional<double> jerk) {
+    if (jerk) m.max_jerk = std::max(m.max_jerk, *jerk);
+    m.min_acc = std::min(m.min_acc, a.accel);
+    m.max_acc = std::max(m.max_acc, a.accel);
+    m.min_speed = std::min(m.min_speed, a.speed);
+    m.max_speed = std::max(m.max_speed, a.speed);
+}
+
+}  // namespace
+
+GroundTruth::GroundTruth(size_t n, RunResult& out) : out_(out), touching_(n, std::vector<bool>(n, false)), lanes_(n) {
     out.vehicles.resize(n);
     for (size_t i = 0; i < n; ++i) {
         for (size_t j = i + 1; j < n; ++j) {
@@ -19,45 +71,119 @@ GroundTruth::GroundTruth(size_t n, RunResult& out) : out_(out), touching_(n, std
     }
 }
 
+// One set of metrics per distinct window of the scenario's expectations.
+void GroundTruth::start(const World& w) {
+    started_ = true;
+    for (int32_t root : w.scenario.expect_roots) {
+        const ir::Expect& e = w.scenario.expects[static_cast<size_t>(root)];
+        if (!e.after && !e.before) continue;
+        const double after = e.after.value_or(-INFINITY), before = e.before.value_or(INFINITY);
+        const bool known = std::any_of(out_.windows.begin(), out_.windows.end(),
+                                       [&](const WindowMetrics& m) { return m.after == after && m.before == before; });
+        if (known) continue;
+        WindowMetrics m;
+        m.after = after;
+        m.before = before;
+        m.pairs = out_.pairs;
+        m.vehicles.resize(out_.vehicles.size());
+        out_.windows.push_back(std::move(m));
+    }
+}
+
+GroundTruth::OnLane GroundTruth::on_lane(const World& w, const Agent& a) const {
+    OnLane o;
+    o.lane = a.centre_lane;
+    if (o.lane == kNoLane) return o;
+    const road::ReferenceLine& ref = w.net.reference(o.lane);
+    // An SDV's lane is the lane of its path under it, which is the target lane from the start
+    // of a lane change: its centre may still be in the other one.
+    o.s = a.lane == o.lane ? a.lane_s : ref.project({a.x, a.y}).s;
+    const double h = ref.heading(o.s);
+    o.speed = a.vx * std::cos(h) + a.vy * std::sin(h);
+    return o;
+}
+
 void GroundTruth::observe(World& w, double t, int tick) {
+    if (!started_) start(w);
+    now_.clear();
+    for (auto& m : out_.windows) {
+        if (m.contains(t)) now_.push_back(&m);
+    }
+    for (size_t i = 0; i < w.agents.size(); ++i) {
+        if (w.agents[i].active) lanes_[i] = on_lane(w, w.agents[i]);
+    }
+    measure_pairs(w, t);
+    measure_vehicles(w, t, tick);
+}
+
+void GroundTruth::measure_pairs(World& w, double t) {
     auto& agents = w.agents;
     const size_t n = agents.size();
     std::vector<Box> boxes(n);
-    for (size_t i = 0; i < n; ++i) boxes[i] = {{agents[i].x, agents[i].y}, agents[i].yaw, agents[i].v->length, agents[i].v->width};
+    std::vector<Frame> frames(n);
+    for (size_t i = 0; i < n; ++i) {
+        const Agent& a = agents[i];
+        boxes[i] = {{a.x, a.y}, a.yaw, a.v->length, a.v->width};
+        frames[i] = {{a.x, a.y}, {std::cos(a.yaw), std::sin(a.yaw)}, a.v->length, a.v->width};
+    }
     size_t pi = 0;
     for (size_t i = 0; i < n; ++i) {
         for (size_t j = i + 1; j < n; ++j, ++pi) {
             if (!agents[i].active || !agents[j].active) continue;
-            PairMetrics& m = out_.pairs[pi];
-            // The exact box distance only when it could matter: a lower bound from the
-            // centres and the half diagonals first.
+            // The exact box distance only when it could lower a minimum (of the run or of a
+            // window holding this tick): a lower bound from the centres and the half
+            // diagonals first.
+            double need = out_.pairs[pi].min_clearance;
+            for (const WindowMetrics* m : now_) need = std::max(need, m->pairs[pi].min_clearance);
+            PairSample s;
             const double centre = road::distance(boxes[i].centre, boxes[j].centre);
             const double reach = 0.5 * (std::hypot(boxes[i].length, boxes[i].width) + std::hypot(boxes[j].length, boxes[j].width));
-            const bool near = centre - reach < m.min_gap || touching_[i][j] || centre <= reach;
-            const double g = near ? gap(boxes[i], boxes[j]) : centre - reach;
-            m.min_gap = std::min(m.min_gap, g);
-            const bool hit = near && g <= 0;
+            const bool near = centre - reach < need || touching_[i][j] || centre <= reach;
+            if (near) s.clearance = gap(boxes[i], boxes[j]);
+            const bool hit = near && s.clearance <= 0;
             if (hit && !touching_[i][j]) {
                 const double rel = std::hypot(agents[i].vx - agents[j].vx, agents[i].vy - agents[j].vy);
                 out_.events.push_back({t, "collision", {static_cast<int>(i), static_cast<int>(j)}, rel, impact_zone(boxes[i], boxes[j])});
             }
             touching_[i][j] = hit;
-            // Longitudinal relations when one is ahead of the other in the same lane.
-            for (int dir = 0; dir < 2; ++dir) {
-                const Agent& f = agents[dir ? j : i];
-                const Agent& l = agents[dir ? i : j];
-                const road::Vec2 h{std::cos(f.yaw), std::sin(f.yaw)};
-                const road::Vec2 rel{l.x - f.x, l.y - f.y};
-                const double lon = road::dot(rel, h), lat = std::fabs(road::cross(h, rel));
-                if (lon <= 0 || lat > 0.5 * (f.v->width + l.v->width)) continue;
-                const double bumper = lon - 0.5 * (f.v->length + l.v->length);
-                if (f.speed > 0.1) m.min_headway = std::min(m.min_headway, std::max(0.0, bumper) / f.speed);
-                const double closing = f.speed - (l.vx * h.x + l.vy * h.y);
-                if (closing > 0.01) m.min_ttc = std::min(m.min_ttc, std::max(0.0, bumper) / closing);
+            s.lateral = std::min(lateral_clearance(frames[i], frames[j], frames[i].heading, reach),
+                                 lateral_clearance(frames[i], frames[j], frames[j].heading, reach));
+            // Along the lane, while both centres are in the same lane or the one ahead is in
+            // the lane that directly follows: `ds` from i's centre to j's (positive: j ahead).
+            const OnLane& li = lanes_[i];
+            const OnLane& lj = lanes_[j];
+            std::optional<double> ds;
+            if (li.lane != kNoLane && lj.lane != kNoLane) {
+                const auto follows = [&](LaneId from, LaneId to) {
+                    const auto& succ = w.net.lane(from).successors;
+                    return std::find(succ.begin(), succ.end(), to) != succ.end();
+                };
+                if (li.lane == lj.lane) {
+                    ds = lj.s - li.s;
+                } else if (follows(li.lane, lj.lane)) {
+                    ds = w.net.reference(li.lane).length() - li.s + lj.s;
+                } else if (follows(lj.lane, li.lane)) {
+                    ds = -(w.net.reference(lj.lane).length() - lj.s + li.s);
+                }
             }
+            if (ds) {
+                const bool j_ahead = *ds >= 0;
+                const OnLane& behind = j_ahead ? li : lj;
+                const OnLane& ahead = j_ahead ? lj : li;
+                s.gap = std::max(0.0, std::fabs(*ds) - 0.5 * (agents[i].v->length + agents[j].v->length));
+                if (behind.speed > kMoving) s.headway = s.gap / behind.speed;
+                const double closing = behind.speed - ahead.speed;
+                if (closing > kClosing) s.ttc = s.gap / closing;
+            }
+            fold(out_.pairs[pi], s);
+            for (WindowMetrics* m : now_) fold(m->pairs[pi], s);
         }
     }
-    for (size_t i = 0; i < n; ++i) {
+}
+
+void GroundTruth::measure_vehicles(World& w, double t, int tick) {
+    auto& agents = w.agents;
+    for (size_t i = 0; i < agents.size(); ++i) {
         Agent& a = agents[i];
         if (!a.active) continue;
         VehicleMetrics& vm = out_.vehicles[i];
@@ -65,9 +191,10 @@ void GroundTruth::observe(World& w, double t, int tick) {
         const bool off = a.centre_lane == kNoLane;
         if (off && !a.off_lanes) out_.events.push_back({t, "off_road", {static_cast<int>(i)}, 0, ""});
         a.off_lanes = off;
-        vm.max_speed = std::max(vm.max_speed, std::fabs(a.speed));
-        vm.max_acc = std::max(vm.max_acc, std::fabs(a.accel));
-        if (tick > 0) vm.max_jerk = std::max(vm.max_jerk, std::fabs(a.accel - a.prev_accel) / w.dt);
+        std::optional<double> jerk;
+        if (tick > 0) jerk = std::fabs(a.accel - a.prev_accel) / w.dt;
+        fold(vm, a, jerk);
+        for (WindowMetrics* m : now_) fold(m->vehicles[i], a, jerk);
         a.prev_accel = a.accel;
         // Stopping at a stop line (the front bumper within 5 m before it) is remembered.
         if (a.lane != kNoLane && std::fabs(a.speed) < 0.1) {

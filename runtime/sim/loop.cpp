@@ -9,6 +9,7 @@
 #include "runtime/sim/expectations.h"
 #include "runtime/sim/ground_truth.h"
 #include "runtime/sim/planning.h"
+#include "runtime/sim/progress.h"
 #include "runtime/sim/simulation.h"
 #include "runtime/sim/world.h"
 
@@ -48,6 +49,7 @@ RunResult run(World& w, RunObserver* observer) {
     const int total_ticks = static_cast<int>(std::llround(sc.timeout / w.dt));
     const int period = std::max(1, static_cast<int>(std::llround(sc.traffic_rate / sc.planning_rate)));
     GroundTruth truth(w.agents.size(), out);
+    ProgressMonitor progress(w.agents.size());
     const int threads = std::max(1, w.options.threads);
     if (observer) observer->start(w);
     int last_tick = 0;
@@ -58,6 +60,11 @@ RunResult run(World& w, RunObserver* observer) {
         // 1. Advance every agent to time t.
         for (Agent& a : w.agents) {
             if (!a.active) continue;
+            if (a.crashed) {
+                // A collision ends a vehicle's motion: it stands where it hit (SPEC §3.10).
+                a.vx = a.vy = a.ax = a.ay = a.speed = a.accel = 0;
+                continue;
+            }
             a.model->advance(w, a, t, tick);
             if (std::fabs(a.speed) < 0.1) {
                 if (a.stopped_since < 0) a.stopped_since = t;
@@ -72,14 +79,23 @@ RunResult run(World& w, RunObserver* observer) {
         }
         // 2. Snapshot; 3. ground truth; 4. report.
         take_snapshot(w);
+        const size_t events_before = out.events.size();
         truth.observe(w, t, tick);
+        for (size_t e = events_before; e < out.events.size(); ++e) {
+            if (out.events[e].kind != "collision") continue;
+            for (int v : out.events[e].vehicles) {
+                Agent& crashed = w.agents[static_cast<size_t>(v)];
+                if (crashed.v->kind != ir::VehicleKind::static_object) crashed.crashed = true;
+            }
+        }
+        progress.observe(w, t, out);
         if (observer) observer->tick(w, tick, t);
         last_tick = tick;
         if (tick == total_ticks || truth.ended()) break;
         // 5. Planning of the drivers due at this tick, applied in vehicle order.
         due.clear();
         for (Agent& a : w.agents) {
-            if (a.driver && a.active && (tick + a.index) % period == 0) due.push_back(&a);
+            if (a.driver && a.active && !a.crashed && (tick + a.index) % period == 0) due.push_back(&a);
         }
         plan_due(w, due, t, threads);
         for (Agent* a : due) {

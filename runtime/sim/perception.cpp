@@ -32,6 +32,9 @@ void View::build(const World& w, const Agent& a, double t0, double t_start) {
     // At rest the brakes hold: the end of a stopping plan's deceleration does not carry into the
     // next plan (it would make every start from standstill roll backwards first).
     if (std::fabs(self.s_d) < kRestSpeed) self.s_dd = 0;
+    // Nearly stopped and still braking: the brakes bring it to rest within 0.2 s and
+    // hold it there; the plan starts from that, not from a deceleration that would reverse it.
+    if (self.s_d >= 0 && self.s_d < 0.1 && self.s_dd < -5.0 * self.s_d) self.s_dd = -5.0 * self.s_d;
     seen.clear();
     const Snap& me = w.snapshot[static_cast<size_t>(a.index)];
     for (size_t j = 0; j < w.snapshot.size(); ++j) {

@@ -61,6 +61,8 @@ void make_request(const Leaves& l, int32_t sel, PlanInputs& out) {
             for (size_t i = 0; i < d.path.size(); ++i) {
                 const auto& ln = w.net.lane(d.path[i]);
                 if (which == planner::StopTarget::goal && d.path[i] == a.goal_lane) {
+                    // The centre at the goal: the goal's own semantics (reached within 4 m of
+                    // the centre, SPEC §8), which the reference's stop triggers are tuned to.
                     req.stop_s = d.path_start[i] + a.goal_s;
                     break;
                 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <string_view>
 
 #include "runtime/sim/leaves.h"
 #include "runtime/sim/path.h"
@@ -10,6 +11,9 @@
 
 namespace sdv::sim {
 namespace {
+
+constexpr double kComfortableStop = 3.0;  // m/s²: the deceleration of a comfortable stop
+constexpr double kCreepSpeed = 1.0;       // m/s: slower, stopping is holding, not braking
 
 // Every candidate as a world-frame polyline (6 points), with its outcome, for viewers.
 std::vector<PlanTrace::Path> candidate_paths(const planner::PlanWorkspace& ws, const planner::PlanResult& result,
@@ -85,8 +89,38 @@ void plan_cycle(const World& w, Agent& a, double t0) {
     thread_local planner::PlanWorkspace ws;
     ws.keep_candidates = trace;
     planner::PlanResult result = planner::plan(in.request, ws);
-    d.pending = ActivePlan{result.trajectory, t_start, d.ref};
-    d.fallback = result.record.fallback;
+    d.pending = ActivePlan{result.trajectory, t_start, d.ref, sel};
+    d.fallback_kind = nullptr;
+    if (result.record.fallback) {
+        // Nothing feasible: keep the plan in force while it stays valid (the same maneuver, at
+        // least one more second of it, in the same frame) and clear of everyone; else a
+        // comfortable stop (firm enough to stop at a stop maneuver's point) when that is clear;
+        // else the planner's emergency stop (SPEC §3.3, docs/language.md).
+        const ActivePlan* prev = d.plan ? &*d.plan : nullptr;
+        const double from = prev ? t_start - prev->start : 0;
+        const auto& st = in.request.start;
+        double decel = kComfortableStop;
+        if (in.config.kind == catalog::ManeuverKind::stop && in.config.stop_at != planner::StopTarget::now) {
+            const double ds = in.request.stop_s - in.config.stop_before - st.s;
+            if (ds > 0.1 && st.s_d > 0) decel = std::max(decel, st.s_d * st.s_d / (2 * ds));
+        }
+        decel = std::min(decel, in.config.common.max_long_acc);
+        const auto comfortable = planner::plan_fallback(st, decel);
+        if (prev && prev->maneuver == sel && sel >= 0 && prev->ref == d.ref && from >= 0 && prev->traj.duration - from >= 1.0 &&
+            planner::stays_clear(prev->traj, from, std::min(3.0, prev->traj.duration - from), in.request)) {
+            d.pending.reset();
+            d.fallback_kind = "previous_plan";
+        } else if (planner::stays_clear(comfortable, 0, comfortable.duration, in.request)) {
+            d.pending = ActivePlan{comfortable, t_start, d.ref, -1};
+            // At rest or creeping (below 1 m/s), it holds where it is: waiting, not braking.
+            d.fallback_kind = std::fabs(st.s_d) < kCreepSpeed ? "hold" : "comfortable_stop";
+        } else {
+            d.pending->maneuver = -1;
+            d.fallback_kind = "emergency_stop";
+        }
+    }
+    d.fallback = d.fallback_kind != nullptr && d.fallback_kind != std::string_view("previous_plan") &&
+                 d.fallback_kind != std::string_view("hold");
     d.candidates = result.record.candidates;
     d.plan_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - started).count();
     d.trace.reset();
@@ -100,6 +134,7 @@ void plan_cycle(const World& w, Agent& a, double t0) {
         tr.record = result.record;
         tr.start = in.request.start;
         tr.paths = candidate_paths(ws, result, *d.ref);
+        tr.fallback = d.fallback_kind;
     }
 }
 

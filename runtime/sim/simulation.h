@@ -37,24 +37,53 @@ struct Event {
     std::string zone;
 };
 
+// Metrics of a pair over the run or a window (SPEC §3.10). A minimum never measured stays
+// INFINITY (summary.json: null; an expectation compares it as +infinity).
 struct PairMetrics {
     int a = 0, b = 0;
-    double min_gap = INFINITY, min_ttc = INFINITY, min_headway = INFINITY;
+    double min_clearance = INFINITY;  // outline clearance: footprint to footprint, any direction
+    double min_gap = INFINITY;        // same-lane bumper gap along the lane
+    double min_lateral = INFINITY;    // across the heading of either, while side by side
+    double min_ttc = INFINITY;        // same lane: bumper gap / closing speed along the lane
+    double min_headway = INFINITY;    // same lane: bumper gap / speed of the one behind
 };
 
+// Metrics of a vehicle. Accelerations and speeds are signed (along the heading): braking and
+// reversing are negative. Extremes never measured stay ±INFINITY (summary.json: null).
 struct VehicleMetrics {
-    double max_jerk = 0, max_acc = 0, max_speed = 0;
+    double max_jerk = 0;                             // largest |jerk|
+    double min_acc = INFINITY, max_acc = -INFINITY;  // longitudinal
+    double min_speed = INFINITY, max_speed = -INFINITY;
     bool reached_goal = false;
     bool fallback_used = false;
     int plans = 0;
     int fallback_plans = 0;     // plans that found no feasible candidate
     double longest_stall_s = 0; // longest time below 0.5 m/s while its tree was not waiting
+    double fallback_share() const { return plans > 0 ? static_cast<double>(fallback_plans) / plans : 0.0; }
+};
+
+// The metrics of the ticks inside one expectation window (after <= t <= before).
+struct WindowMetrics {
+    double after = -INFINITY, before = INFINITY;
+    std::vector<PairMetrics> pairs;
+    std::vector<VehicleMetrics> vehicles;
+    bool contains(double t) const { return t >= after - 1e-9 && t <= before + 1e-9; }
+};
+
+// One function call of an expectation, with the value it measured.
+struct ExpectPart {
+    std::string text;              // as written: "min_gap(ego, v2) < 5 m"
+    int32_t function = -1;         // catalog::ExpectKind: the metric it checks
+    std::optional<double> value;   // a quantity's value (none: never measured, e.g. never closing)
+    std::optional<double> time;    // a boolean's first matching event, when there is one
+    bool holds = false;            // the call (with its comparison) is true
 };
 
 struct ExpectResult {
     std::string text;
     bool passed = false;
-    std::optional<double> value;  // the measured quantity of a comparison
+    std::optional<double> value;     // the measured quantity of a single comparison
+    std::vector<ExpectPart> parts;   // every call of the expression, in source order
     ir::SourceLoc loc;
 };
 
@@ -73,6 +102,7 @@ struct RunResult {
     std::vector<Event> events;
     std::vector<PairMetrics> pairs;
     std::vector<VehicleMetrics> vehicles;
+    std::vector<WindowMetrics> windows;  // one per distinct window of the expectations
     std::vector<ExpectResult> expectations;
     Timing timing;
     bool passed() const;

@@ -151,7 +151,10 @@ std::string World::place_agent(Agent& a) {
     if (start.xy) f = ref0.project({start.x, start.y});
     f.s_d = a.v->speed;
     place(a, ref0.to_cartesian(f));
-    a.yaw = start.xy && start.has_heading ? start.heading : ref0.heading(std::clamp(f.s, 0.0, ref0.length()));
+    // A driven vehicle starts along the lane it stands in (a given heading only chooses among
+    // overlapping lanes); others keep the heading they are given.
+    const bool keep_heading = start.xy && start.has_heading && a.v->kind != ir::VehicleKind::sdv;
+    a.yaw = keep_heading ? start.heading : ref0.heading(std::clamp(f.s, 0.0, ref0.length()));
     a.lane = lane;
     a.lane_s = f.s;
     a.lane_d = f.d;

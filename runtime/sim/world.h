@@ -38,6 +38,7 @@ struct ActivePlan {
     planner::Trajectory traj;
     double start = 0;
     std::shared_ptr<const road::ReferenceLine> ref;
+    int32_t maneuver = -1;  // the tree node whose plan it is (-1: initial or fallback)
 };
 
 // One agent in the snapshot: what every planner reads of it at t0 (immutable while planning).
@@ -65,6 +66,7 @@ struct PlanTrace {
     planner::PlanRecord record;
     planner::FrenetState start;
     std::vector<Path> paths;
+    const char* fallback = nullptr;  // what the cycle did without a feasible candidate
 };
 
 // What an agent that plans owns: its tree, the reference line along its route, its plans.
@@ -82,7 +84,8 @@ struct Driver {
     // `wait` timers: node index → (time first ticked, plan_count of the last tick).
     std::map<int32_t, std::pair<double, uint32_t>> waits;
     // Results of the last cycle (written by the planning thread, applied in vehicle order).
-    bool fallback = false;
+    bool fallback = false;               // this cycle braked for want of a feasible plan
+    const char* fallback_kind = nullptr;  // previous_plan, hold, comfortable_stop, emergency_stop
     int candidates = 0;
     double plan_us = 0;
     std::optional<PlanTrace> trace;
@@ -105,6 +108,7 @@ struct Agent {
     bool past_road_end = false;
     bool active = true;
     bool off_lanes = false;  // the centre is off every lane (an off_road episode)
+    bool crashed = false;    // in a collision: stands where it hit, no longer driven
     double stopped_since = -1;
     // Route and goal
     std::vector<road::RouteStep> route;

@@ -24,6 +24,24 @@ if [ "$same" != True ]; then
 else
     echo "outcome matches the reference: $(tr -d ' \n' < "$expected")"
 fi
+if [ "$name" = 4waystop ]; then
+    # All four drivers take their turn: each crosses the junction (approach lanelet, a lanelet
+    # inside the junction, exit lanelet) and ends far from where it started.
+    python3 - "$tmp/a/trajectories.csv" <<'PY' || fail=1
+import collections, csv, math, sys
+rows = collections.defaultdict(list)
+for r in csv.DictReader(open(sys.argv[1])):
+    rows[r["vehicle"]].append(r)
+ok = True
+for v, rs in sorted(rows.items()):
+    lanes = [l for i, l in enumerate(r["lane"] for r in rs) if l and (i == 0 or rs[i - 1]["lane"] != l)]
+    moved = math.hypot(float(rs[-1]["x"]) - float(rs[0]["x"]), float(rs[-1]["y"]) - float(rs[0]["y"]))
+    crossed = len(set(lanes)) >= 3 and moved > 40
+    ok = ok and crossed
+    print(("ok" if crossed else "FAIL") + f": {v} crosses: lanes {' -> '.join(lanes)}, {moved:.0f} m from its start")
+sys.exit(0 if ok and len(rows) == 4 else 1)
+PY
+fi
 if [ "$name" = trafficlight_red ]; then
     # The light of this scenario is red from 2.5 s to 12.5 s: the SDV waits at it, then goes.
     python3 - "$tmp/a/trajectories.csv" <<'PY' || fail=1

@@ -171,14 +171,68 @@ TEST_CASE("follow settles at the time gap behind a constant-speed leader") {
     PlanRequest req;
     req.start = {0, 10, 0, 0, 0, 0};
     req.leader = 0;
-    const Obstacle leader{1, {60, 10, 0, 0, 0, 0}, 4.5, 1.8, false};
+    const Obstacle leader{1, {45, 10, 0, 0, 0, 0}, 4.5, 1.8, false};
     auto r = run(cfg, req, {leader});
     REQUIRE(!r.record.fallback);
     const double T = r.trajectory.duration;
     const auto end = r.trajectory.at(T);
-    const double gap = (60 + 10 * T) - end.s - 4.5;
+    const double gap = (45 + 10 * T) - end.s - 4.5;
     CHECK(gap == doctest::Approx(cfg.time_gap * 10).epsilon(1e-9));
     CHECK(end.s_d == doctest::Approx(10));
+}
+
+TEST_CASE("follow closes in on a distant leader at the driver's pace instead of stopping") {
+    auto cfg = default_config(ManeuverKind::follow);
+    PlanRequest req;
+    req.start = {0, 10, 0, 0, 0, 0};
+    req.leader = 0;
+    const Obstacle leader{1, {150, 10, 0, 0, 0, 0}, 4.5, 1.8, false};
+    auto r = run(cfg, req, {leader});
+    REQUIRE(!r.record.fallback);
+    const auto end = r.trajectory.at(r.trajectory.duration);
+    CHECK(end.s_d == doctest::Approx(13));  // the leader's speed + 3 m/s
+    cfg.follow_speed = 11.5;                // the driver's own speed caps it
+    r = run(cfg, req, {leader});
+    REQUIRE(!r.record.fallback);
+    CHECK(r.trajectory.at(r.trajectory.duration).s_d == doctest::Approx(11.5));
+}
+
+TEST_CASE("follow never goes faster than the driver's own speed behind a faster leader") {
+    auto cfg = default_config(ManeuverKind::follow);
+    cfg.follow_speed = 15;
+    PlanRequest req;
+    req.start = {0, 15, 0, 0, 0, 0};
+    req.leader = 0;
+    const Obstacle leader{1, {40, 20, 0, 0, 0, 0}, 4.5, 1.8, false};
+    auto r = run(cfg, req, {leader});
+    REQUIRE(!r.record.fallback);
+    const double T = r.trajectory.duration;
+    for (int k = 0; k <= 20; ++k) CHECK(r.trajectory.at(T * k / 20).s_d <= 15 + 1e-9);
+}
+
+TEST_CASE("a follower at constant speed behind never vetoes the leader's braking") {
+    auto cfg = default_config(ManeuverKind::stop);
+    cfg.stop_at = StopTarget::now;
+    PlanRequest req;
+    req.start = {100, 12, 0, 0, 0, 0};
+    const Obstacle tailgater{1, {92, 12, 0, 0, 0, 0}, 4.5, 1.8, false};  // 3.5 m behind, same speed
+    auto r = run(cfg, req, {tailgater});
+    CHECK_FALSE(r.record.fallback);
+    CHECK(r.record.rejections[static_cast<size_t>(RejectCause::collision)] == 0);
+}
+
+TEST_CASE("a stop from rest well short of its point drives up to it instead of crawling") {
+    auto cfg = default_config(ManeuverKind::stop);
+    cfg.stop_at = StopTarget::position;
+    PlanRequest req;
+    req.start = {0, 0, 0, 0, 0, 0};
+    req.stop_s = 20;
+    auto r = run(cfg, req, {});
+    REQUIRE(!r.record.fallback);
+    // At most the longest duration factor (1.4) times the rest-to-rest time at 2 m/s² peak
+    // (was 40 s: 2·Δs / 1 m/s).
+    CHECK(r.trajectory.duration <= 1.4 * std::sqrt(5.77 * 20 / 2.0) + 1e-9);
+    CHECK(r.trajectory.at(r.trajectory.duration).s == doctest::Approx(20).epsilon(1e-6));
 }
 
 TEST_CASE("stop ends within 0.1 m of the stop point at rest") {
