@@ -4,6 +4,7 @@
 // vehicle's centre is in. Scenarios are compiled from text, as a user writes them.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -146,4 +147,43 @@ TEST_CASE("driving round a circle and along a long S-bend road, s grows continuo
         INFO("worst step " << worst);
         CHECK(jumps == 0);
     }
+}
+
+TEST_CASE("round a loop of 21 lanelets of a Lanelet2 ring road, s grows continuously in every lanelet") {
+    // The ring of shared/data/geoscenario/maps/lanelet2_ringroad.osm (found in the golden
+    // successor table of tests/golden/lanelet2): one lap by a route through it, then on.
+    const std::string map = std::string(SDV_SHARED_DIR) + "/data/geoscenario/maps/lanelet2_ringroad.osm";
+    std::ostringstream src;
+    src << "import \"std/drive.sdv\"\nmap ring {\n file \"" << map << "\"\n origin (43.47110803016, -80.53879884742, 320 m)\n}\n"
+        << "scenario loop {\n road ring\n timeout 300 s\n"
+        << " vehicle a: sdv {\n  start lane \"-7226\" at 1 m\n  speed 15 m/s\n"
+        << "  route lane \"-7036\", lane \"-7020\", lane \"-7008\", lane \"-6996\", lane \"-7094\", lane \"-7226\"\n"
+        << "  tree std.drive(speed = 15 m/s)\n }\n expect timeout()\n}\n";
+    auto p = compile(src.str());
+    REQUIRE(p);
+    io::Recorder rec;
+    auto r = sim::simulate(*p, 0, {}, &rec);
+    REQUIRE(r.error.empty());
+    for (const auto& e : r.events) CHECK_MESSAGE(e.kind != "left_road", "left the road at " << e.time << " s");
+    std::istringstream csv(rec.take().trajectories_csv);
+    std::string line;
+    std::getline(csv, line);
+    double prev_s = -1;
+    std::string prev_lane;
+    std::vector<std::string> lanes;
+    int jumps = 0;
+    while (std::getline(csv, line)) {
+        std::vector<std::string> f;
+        std::stringstream ls(line);
+        for (std::string c; std::getline(ls, c, ',');) f.push_back(c);
+        REQUIRE(f.size() >= 12);
+        const double s = std::stod(f[9]);
+        if (f[11] == prev_lane && (s - prev_s < -1e-6 || s - prev_s > 1.0)) ++jumps;  // 0.5 m a tick at 15 m/s
+        if (f[11] != prev_lane && !f[11].empty()) lanes.push_back(f[11]);
+        prev_s = s;
+        prev_lane = f[11];
+    }
+    CHECK(jumps == 0);
+    // More than a lap (about 2.6 km): the start lanelet comes round again.
+    CHECK(std::count(lanes.begin(), lanes.end(), "-7226") >= 2);
 }
