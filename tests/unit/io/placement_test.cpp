@@ -46,6 +46,20 @@ struct FirstTick : sim::RunObserver {
     }
 };
 
+// The rows of trajectories.csv after its header, as fields (the lane is field 11, s field 9).
+std::vector<std::vector<std::string>> csv_rows(const std::string& text) {
+    std::vector<std::vector<std::string>> rows;
+    std::istringstream csv(text);
+    std::string line;
+    std::getline(csv, line);
+    while (std::getline(csv, line)) {
+        std::vector<std::string>& f = rows.emplace_back();
+        std::stringstream ls(line);
+        for (std::string c; std::getline(ls, c, ',');) f.push_back(c);
+    }
+    return rows;
+}
+
 struct Road {
     const char* name;
     const char* body;
@@ -118,17 +132,11 @@ TEST_CASE("driving round a circle and along a long S-bend road, s grows continuo
         io::Recorder rec;
         auto r = sim::simulate(*p, 0, {}, &rec);
         REQUIRE(r.error.empty());
-        std::istringstream csv(rec.take().trajectories_csv);
-        std::string line;
-        std::getline(csv, line);
         double prev_s = -1;
         std::string prev_lane;
         int rows = 0, jumps = 0;
         double worst = 0;
-        while (std::getline(csv, line)) {
-            std::vector<std::string> f;
-            std::stringstream ls(line);
-            for (std::string c; std::getline(ls, c, ',');) f.push_back(c);
+        for (const auto& f : csv_rows(rec.take().trajectories_csv)) {
             REQUIRE(f.size() >= 12);
             const double s = std::stod(f[9]);
             if (!prev_lane.empty() && f[11] == prev_lane) {
@@ -165,17 +173,11 @@ TEST_CASE("round a loop of 21 lanelets of a Lanelet2 ring road, s grows continuo
     auto r = sim::simulate(*p, 0, {}, &rec);
     REQUIRE(r.error.empty());
     for (const auto& e : r.events) CHECK_MESSAGE(e.kind != "left_road", "left the road at " << e.time << " s");
-    std::istringstream csv(rec.take().trajectories_csv);
-    std::string line;
-    std::getline(csv, line);
     double prev_s = -1;
     std::string prev_lane;
     std::vector<std::string> lanes;
     int jumps = 0;
-    while (std::getline(csv, line)) {
-        std::vector<std::string> f;
-        std::stringstream ls(line);
-        for (std::string c; std::getline(ls, c, ',');) f.push_back(c);
+    for (const auto& f : csv_rows(rec.take().trajectories_csv)) {
         REQUIRE(f.size() >= 12);
         const double s = std::stod(f[9]);
         if (f[11] == prev_lane && (s - prev_s < -1e-6 || s - prev_s > 1.0)) ++jumps;  // 0.5 m a tick at 15 m/s
