@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Bad input never crashes or hangs (SPEC §10): each input below must give exit code 1 and a
-# located error (`file:line:col: error[E....]`) within the time limit.
+# located error (`file:line:col: error[E....]`). The timeout only tells a hang from slow work:
+# it is far above any build's time (the 10 MB file takes over 60 s under ASan+UBSan on a busy
+# 2-core machine); the front end's speed is measured in bench/, not here.
 #   robustness.sh SDV
 set -u
 sdv=$1
@@ -11,7 +13,7 @@ fail=0
 check() {  # check NAME FILE [EXPECTED_CODE]
     local name=$1 file=$2
     local err
-    err=$(timeout 60 "$sdv" lint "$file" 2>&1 >/dev/null)
+    err=$(timeout 900 "$sdv" lint "$file" 2>&1 >/dev/null)
     local code=$?
     if [ "$code" != 1 ]; then
         echo "FAIL $name: exit code $code (expected 1)"
