@@ -354,9 +354,11 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
                         min_clear = std::min(min_clear, clear);
                         // A moving vehicle predicted into one standing still is its own
                         // driver's conflict, not a reason to reject standing still.
-                        const bool standing = std::fabs(sp.v(t)) < kStandingSpeed && std::fabs(dp.v(t)) < kStandingSpeed;
-                        const bool moving = std::fabs(o.state.s_d) + std::fabs(o.state.d_d) > kStandingSpeed;
-                        if (k.collision && clear < 0 && vetoes[oi] && !(standing && moving)) {
+                        auto standing_hit = [&] {
+                            return std::fabs(o.state.s_d) + std::fabs(o.state.d_d) > kStandingSpeed &&
+                                   std::fabs(sp.v(t)) < kStandingSpeed && std::fabs(dp.v(t)) < kStandingSpeed;
+                        };
+                        if (k.collision && clear < 0 && vetoes[oi] && !standing_hit()) {
                             cause = RejectCause::collision;
                             break;
                         }
