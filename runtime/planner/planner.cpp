@@ -79,6 +79,20 @@ Footprint footprint(double length, double width) {
     return f;
 }
 
+// Clearance of two footprints at Frenet positions: the closest pair of their circles, less both
+// radii and the margin (negative: they overlap). One square root.
+double clearance(const Footprint& a, double s, double d, const Footprint& b, double os, double od) {
+    const double dd = d - od;
+    double min_d2 = std::numeric_limits<double>::infinity();
+    for (int ia = 0; ia < a.n; ++ia) {
+        for (int ib = 0; ib < b.n; ++ib) {
+            const double ds = (s + a.offset[ia]) - (os + b.offset[ib]);
+            min_d2 = std::min(min_d2, ds * ds + dd * dd);
+        }
+    }
+    return std::sqrt(min_d2) - a.radius - b.radius - kCollisionMargin;
+}
+
 }  // namespace
 
 const char* to_string(RejectCause cause) {
@@ -136,13 +150,7 @@ bool stays_clear(const Trajectory& tr, double from, double horizon, const PlanRe
             if (standing) continue;
             const double os = o.state.s + o.state.s_d * t, od = o.state.d + o.state.d_d * t;
             if (std::fabs(os - f.s) > 0.5 * (req.length_m + o.length_m) + 6.0 || std::fabs(od - f.d) > 6.0) continue;
-            const Footprint of = footprint(o.length_m, o.width_m);
-            for (int ia = 0; ia < own.n; ++ia) {
-                for (int ib = 0; ib < of.n; ++ib) {
-                    const double ds = (f.s + own.offset[ia]) - (os + of.offset[ib]), dd = f.d - od;
-                    if (std::sqrt(ds * ds + dd * dd) - own.radius - of.radius - kCollisionMargin < 0) return false;
-                }
-            }
+            if (clearance(own, f.s, f.d, footprint(o.length_m, o.width_m), os, od) < 0) return false;
         }
     }
     return true;
@@ -340,17 +348,7 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
                         const double od = o.state.d + o.state.d_d * t;
                         const double reach = 0.5 * (req.length_m + o.length_m) + 6.0;
                         if (std::fabs(os - s) > reach || std::fabs(od - d) > 6.0) continue;
-                        const Footprint& of = footprints[oi];
-                        // Closest pair of circles by squared distance; one square root.
-                        const double dd = d - od;
-                        double min_d2 = std::numeric_limits<double>::infinity();
-                        for (int ia = 0; ia < own.n; ++ia) {
-                            for (int ib = 0; ib < of.n; ++ib) {
-                                const double ds = (s + own.offset[ia]) - (os + of.offset[ib]);
-                                min_d2 = std::min(min_d2, ds * ds + dd * dd);
-                            }
-                        }
-                        const double clear = std::sqrt(min_d2) - own.radius - of.radius - kCollisionMargin;
+                        const double clear = clearance(own, s, d, footprints[oi], os, od);
                         min_clear = std::min(min_clear, clear);
                         // A moving vehicle predicted into one standing still is its own
                         // driver's conflict, not a reason to reject standing still.
