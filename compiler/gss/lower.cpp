@@ -412,6 +412,8 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
     // A cut-in needs a target vehicle; the reference also accepts only a target lane, where the
     // vehicle cut in front of is the one beside in that lane.
     if (std::string(cm.maneuver) == "cut_in") {
+        // The reference's delta_s counts beyond two own lengths ahead of the target's centre.
+        out.push_back({"gap_from", "reference"});
         bool has_target = false, has_lane = false;
         std::string lane;
         for (const auto& a : out) {

@@ -211,13 +211,18 @@ std::vector<ManeuverDef> build_maneuvers() {
     ms.push_back(make_maneuver(
         "cut_in", ManeuverKind::cut_in,
         "change lane into a gap relative to a target vehicle (quintic)",
-        "RUNNING until the footprint is in the target lane, then SUCCESS; FAILURE without target",
+        "RUNNING until in the target lane with the end state reached (gap within 2 m or 20 %, relative "
+        "speed within 1 m/s), then SUCCESS; FAILURE without target, when already in the target lane, "
+        "or when the end state is not reached within twice the longest duration",
         {sets(ConfigField::target, vehicle("target", true, "the vehicle to cut in front of")),
          sets(ConfigField::lane, choice("lane", {"left", "right", "target"}, 2,
                 "target lane: left, right, or the target vehicle's lane")),
          sets(ConfigField::duration, sampled("duration", Dim::time, 4, 10, 6, 0, kMaxDuration, "cut-in duration", true)),
          sets(ConfigField::delta_s, sampled("delta_s", Dim::length, 10, 10, 5, -200, 200,
-                 "gap to the target at the end, beyond 2 own lengths (negative: behind it)")),
+                 "bumper gap to the target at the end: its front to the own rear (negative: behind it)")),
+         sets(ConfigField::gap_from, choice("gap_from", {"bumpers", "reference"}, 0,
+                "what delta_s measures: the bumper gap, or (reference) the distance beyond two own "
+                "lengths ahead of the target's centre, as GeoScenario Server does")),
          sets(ConfigField::delta_v, qty("delta_v", Dim::speed, DefaultValue{5}, -kMaxSpeed, kMaxSpeed,
              "speed relative to the target at the end")),
          sets(ConfigField::delta_a, qty("delta_a", Dim::accel, DefaultValue{0}, -kMaxAcc, kMaxAcc,

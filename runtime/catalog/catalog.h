@@ -51,7 +51,7 @@ enum class ConfigField {
     // common: lateral
     lat_offset, eval_points,
     // kind-specific
-    speed, duration, max_speed_change, time_gap, stop_distance, follow_speed, lane, delta_s, delta_v, delta_a,
+    speed, duration, max_speed_change, time_gap, stop_distance, follow_speed, lane, delta_s, delta_v, delta_a, gap_from,
     stop_at, stop_position, stop_before, stop_decel, duration_factor,
     // resolved by the runtime into the plan request
     leader, target,

@@ -58,6 +58,10 @@ bool set_field(ManeuverConfig& c, catalog::ConfigField field, const Sampled& num
         case F::delta_s: c.delta_s = number; return true;
         case F::delta_v: c.delta_v = v; return true;
         case F::delta_a: c.delta_a = v; return true;
+        case F::gap_from:
+            if (choice < 0 || choice > 1) return false;
+            c.gap_from_reference = choice == 1;
+            return true;
         case F::stop_at:
             if (choice < 0 || choice > static_cast<int>(StopTarget::now)) return false;
             c.stop_at = static_cast<StopTarget>(choice);
@@ -128,6 +132,7 @@ std::string describe(const ManeuverConfig& c) {
     smp("delta_s", c.delta_s);
     num("delta_v", c.delta_v);
     num("delta_a", c.delta_a);
+    num("gap_from_reference", c.gap_from_reference);
     num("stop_at", static_cast<int>(c.stop_at));
     if (c.stop_position) num("stop_position", *c.stop_position);
     num("stop_before", c.stop_before);

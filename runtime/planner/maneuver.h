@@ -38,6 +38,7 @@ struct ManeuverConfig {
     LaneTarget lane = LaneTarget::left;         // lane_change, cut_in
     Sampled delta_s = Sampled::single(10);      // cut_in
     double delta_v = 5, delta_a = 0;            // cut_in
+    bool gap_from_reference = false;            // cut_in: delta_s beyond 2 own lengths (GeoScenario)
     StopTarget stop_at = StopTarget::now;       // stop
     std::optional<double> stop_position;        // stop (at = position)
     double stop_before = 0;                     // stop

@@ -8,7 +8,8 @@
 //                  a leader faster than `speed` (the driver's own): quartic to `speed`; one
 //                  beyond comfortable reach in T: quartic to min(speed, v_L + 3 m/s) (closing in)
 //   lane_change    s: quartic keeping the current speed (at least 2 m/s); d to the target lane's centre
-//   cut_in         target V: s_V(T) + 2·len + delta_s, speed v_V + delta_v, acc delta_a
+//   cut_in         target V: s_V(T) + (len + len_V)/2 + delta_s (bumper gap; gap_from = reference:
+//                  2·len + delta_s, GeoScenario's), speed v_V + delta_v, acc delta_a
 //   stop           s: quintic to (stop_s − distance, 0, 0),
 //                  T = factor · min(2Δs / max(ṡ0, 1 m/s), √(5.77 Δs / 2 m/s²)) (at least 1 s):
 //                  from (near) rest it drives up to the point at up to 2 m/s², never crawls;
@@ -298,7 +299,8 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
                             break;
                         }
                         const double vt = target->state.s_d;
-                        const double ts = target->state.s + vt * T + 2 * req.length_m + a_val;
+                        const double ahead = cfg.gap_from_reference ? 2 * req.length_m : 0.5 * (req.length_m + target->length_m);
+                        const double ts = target->state.s + vt * T + ahead + a_val;
                         target_v = vt + cfg.delta_v;
                         cand.target_s = ts;
                         sp = Poly::quintic(st.s, st.s_d, st.s_dd, ts, target_v, cfg.delta_a, T);

@@ -31,6 +31,9 @@ public:
     // A vehicle parameter resolved against the view (the nearest leader ahead when not given
     // and `default_leader`); null when it names nobody in sensor range.
     const Seen* vehicle(const ir::Node& n, const char* name, bool default_leader) const;
+    // A lane change's (and a cut-in's) move to the neighbour lane: RUNNING until the footprint
+    // is in it (sets `switched`), SUCCESS when already there, FAILURE when there is none.
+    bt::Status lane_move(const ir::Node& n, catalog::ManeuverKind kind);
 
     const World& w;
     Agent& a;

@@ -1,5 +1,7 @@
 #include "runtime/sim/plan_request.h"
 
+#include <algorithm>
+
 #include "runtime/catalog/catalog.h"
 
 namespace sdv::sim {
@@ -49,7 +51,15 @@ void make_request(const Leaves& l, int32_t sel, PlanInputs& out) {
             return -1;
         };
         if (kind == ManeuverKind::follow) req.leader = index_of(l.vehicle(n, "leader", true));
-        if (kind == ManeuverKind::cut_in) req.target_vehicle = index_of(l.vehicle(n, "target", false));
+        if (kind == ManeuverKind::cut_in) {
+            req.target_vehicle = index_of(l.vehicle(n, "target", false));
+            // In the target lane, the end state is kept at the time the last lane-change plan
+            // set for it (a shrinking horizon, while not shorter than the shortest sampled
+            // duration); after that (or once done) a full duration ahead again.
+            const Driver::CutIn& c = d.cut_in;
+            const double shortest = std::min(cfg.duration.value, cfg.duration.lo);
+            if (c.node == sel && c.in_lane && !c.done && c.due - l.t_start >= shortest) cfg.duration = planner::Sampled::single(c.due - l.t_start);
+        }
         if ((kind == ManeuverKind::lane_change || kind == ManeuverKind::cut_in) && d.target_lane != kNoLane) {
             const auto& ln = w.net.lane(a.lane);
             const double side = d.target_lane == ln.left ? 1.0 : -1.0;

@@ -88,8 +88,30 @@ void plan_cycle(const World& w, Agent& a, double t0) {
     ++d.plan_count;
     thread_local planner::PlanWorkspace ws;
     ws.keep_candidates = trace;
-    planner::PlanResult result = planner::plan(in.request, ws);
-    d.pending = ActivePlan{result.trajectory, t_start, d.ref, sel};
+    // A cut-in in its target lane commits to its plan until the plan's end (its end state)
+    // while the target keeps the speed the plan assumed (within 1 m/s) and the plan stays
+    // clear: re-planning a receding end state every cycle never gets there.
+    Driver::CutIn& cut = d.cut_in;
+    const ActivePlan* held = d.plan ? &*d.plan : nullptr;
+    const auto& obstacles = in.request.obstacles;
+    const int tv = in.request.target_vehicle;
+    const double target_v = tv >= 0 ? obstacles[static_cast<size_t>(tv)].state.s_d : 0;
+    const bool commit = sel >= 0 && sel == cut.node && cut.in_lane && tv >= 0 && std::fabs(target_v - cut.target_v) <= 1.0 &&
+                        held != nullptr && held->maneuver == sel && held->ref == d.ref && t_start < cut.due - 1e-9 &&
+                        planner::stays_clear(held->traj, t_start - held->start, cut.due - t_start, in.request);
+    planner::PlanResult result;
+    if (commit) {
+        result.trajectory = held->traj;
+        ws.candidates.clear();
+        d.pending.reset();
+    } else {
+        result = planner::plan(in.request, ws);
+        d.pending = ActivePlan{result.trajectory, t_start, d.ref, sel};
+        if (sel >= 0 && sel == cut.node && !result.record.fallback) {
+            cut.due = t_start + result.trajectory.duration;
+            cut.target_v = target_v;
+        }
+    }
     d.fallback_kind = nullptr;
     if (result.record.fallback) {
         // Nothing feasible: keep the plan in force while it stays valid (the same maneuver, at

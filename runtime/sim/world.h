@@ -80,6 +80,15 @@ struct Driver {
     int32_t maneuver = -1;  // selected node
     std::string maneuver_name = "none";
     LaneId target_lane = kNoLane;  // of a running lane change / cut-in
+    // A cut-in: its node, the plan count when last ticked, when it began, whether it reached
+    // the target lane, when its end state is due (−1: not planned yet), whether it ended.
+    struct CutIn {
+        int32_t node = -1;
+        uint32_t ticked = 0;
+        double since = 0, due = -1;
+        double target_v = 0;  // the target's speed its plan assumed
+        bool in_lane = false, done = false;
+    } cut_in;
     uint32_t plan_count = 0;
     // `wait` timers: node index → (time first ticked, plan_count of the last tick).
     std::map<int32_t, std::pair<double, uint32_t>> waits;

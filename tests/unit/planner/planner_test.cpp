@@ -264,8 +264,15 @@ TEST_CASE("cut-in ends in the target lane at the requested gap") {
     const double T = r.trajectory.duration;
     const auto end = r.trajectory.at(T);
     CHECK(end.d == doctest::Approx(0).epsilon(1e-9));
-    CHECK(end.s - (0 + 13 * T) == doctest::Approx(2 * 4.5 + 5));
+    // delta_s is the bumper gap: the target's front (centre + 2.25 m) to the own rear.
+    CHECK(end.s - (0 + 13 * T) == doctest::Approx(0.5 * (4.5 + 4.5) + 5));
     CHECK(end.s_d == doctest::Approx(10));
+    // gap_from = reference (GeoScenario Server): delta_s beyond two own lengths from its centre.
+    cfg.gap_from_reference = true;
+    auto ref = run(cfg, req, {ego});
+    REQUIRE(!ref.record.fallback);
+    const double Tr = ref.trajectory.duration;
+    CHECK(ref.trajectory.at(Tr).s - 13 * Tr == doctest::Approx(2 * 4.5 + 5));
 }
 
 TEST_CASE("keep_velocity, lane_change and reverse reach their targets") {
