@@ -61,7 +61,7 @@ nodeBody
     | decorator node                                      # decoratorNode
     ;
 compositeKind : FALLBACK | SEQUENCE | REACTIVE_SEQUENCE | PARALLEL ;
-decorator : NOT | ONCE ;
+decorator : NOT | ONCE | LATCH ;
 
 argList : arg (',' arg)* ','? ;
 arg : qualName '=' value ;
@@ -141,7 +141,7 @@ window : (DURING | AFTER | BEFORE) value ;
 ident
     : ID | IMPORT | AS | ROAD | LANES | LANE_WIDTH | SPEED_LIMIT | STRAIGHT | ARC | RADIUS
     | ORIGIN | HEADING | JUNCTION | ARM_LENGTH | CONTROL | MAP | FILE | TREE | CONDITION
-    | MANEUVER | SUBTREE | FALLBACK | SEQUENCE | REACTIVE_SEQUENCE | PARALLEL | NOT | ONCE
+    | MANEUVER | SUBTREE | FALLBACK | SEQUENCE | REACTIVE_SEQUENCE | PARALLEL | NOT | ONCE | LATCH
     | SAMPLES | SCENARIO | TIMEOUT | SEED | RATE | EGO | VEHICLE | OBJECT | LIGHT | EXPECT
     | START | SPEED | LENGTH | WIDTH | GOAL | ROUTE | TRAJECTORY | AT | OFFSET | LANE | AND | OR
     | LEFT | RIGHT | ENDS | RUN | DURING | AFTER | BEFORE
@@ -174,6 +174,7 @@ REACTIVE_SEQUENCE : 'reactive_sequence' ;
 PARALLEL : 'parallel' ;
 NOT : 'not' ;
 ONCE : 'once' ;
+LATCH : 'latch' ;
 SAMPLES : 'samples' ;
 SCENARIO : 'scenario' ;
 TIMEOUT : 'timeout' ;

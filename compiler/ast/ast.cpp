@@ -32,6 +32,7 @@ const char* to_string(NodeKind kind) {
         case NodeKind::subtree: return "subtree";
         case NodeKind::not_: return "not";
         case NodeKind::once: return "once";
+        case NodeKind::latch: return "latch";
     }
     return "?";
 }

@@ -81,6 +81,7 @@ enum class NodeKind {
     subtree,
     not_,
     once,
+    latch,
 };
 const char* to_string(NodeKind kind);
 

@@ -72,6 +72,7 @@ const char* kind_name(ir::NodeKind k) {
         case ir::NodeKind::maneuver: return "maneuver";
         case ir::NodeKind::not_: return "not";
         case ir::NodeKind::once: return "once";
+        case ir::NodeKind::latch: return "latch";
     }
     return "?";
 }

@@ -77,6 +77,7 @@ int32_t Checker::expand_node(const ast::Node& n, const Env& env, ScenarioCtx& ct
         case ast::NodeKind::maneuver: out.kind = ir::NodeKind::maneuver; break;
         case ast::NodeKind::not_: out.kind = ir::NodeKind::not_; break;
         case ast::NodeKind::once: out.kind = ir::NodeKind::once; break;
+        case ast::NodeKind::latch: out.kind = ir::NodeKind::latch; break;
         case ast::NodeKind::subtree: break;
     }
     out.name = !label.empty() ? label : n.callee.parts.empty() ? ast::to_string(n.kind) : n.callee.str();

@@ -176,6 +176,7 @@ void Checker::check_node(const ast::Node& n, const Env& env) {
         }
         case ast::NodeKind::not_:
         case ast::NodeKind::once:
+        case ast::NodeKind::latch:
             for (const auto& c : n.children) check_node(*c, env);
             break;
     }

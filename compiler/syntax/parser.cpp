@@ -467,7 +467,9 @@ private:
             n->callee = qual(sub->qualName());
             n->args = args(sub->argList());
         } else if (auto* dec = dynamic_cast<SdvParser::DecoratorNodeContext*>(body)) {
-            n->kind = dec->decorator()->NOT() ? ast::NodeKind::not_ : ast::NodeKind::once;
+            n->kind = dec->decorator()->NOT()    ? ast::NodeKind::not_
+                      : dec->decorator()->ONCE() ? ast::NodeKind::once
+                                                 : ast::NodeKind::latch;
             n->keyword_range = range(dec->decorator());
             n->children.push_back(node(dec->node()));
         }
@@ -740,7 +742,7 @@ std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& s
                 if (tx == "{" || tx == "(" || tx == "[") ++depth;
                 if (tx == "}" || tx == ")" || tx == "]") depth = std::max(0, depth - 1);
             }
-            decorators = (type == SdvLexer::NOT || type == SdvLexer::ONCE) ? decorators + 1 : 0;
+            decorators = (type == SdvLexer::NOT || type == SdvLexer::ONCE || type == SdvLexer::LATCH) ? decorators + 1 : 0;
             if (depth + decorators > kMaxNesting) {
                 diags.error("E0004", range_of(t.get()),
                             "nesting is too deep (more than " + std::to_string(kMaxNesting) +

@@ -88,6 +88,17 @@ Status BehaviorTree::tick_node(int32_t i, TickContext& ctx, std::vector<Visit>* 
             if (result == Status::success) mem.once_fired = true;
             break;
         }
+        case ir::NodeKind::latch: {
+            // Once its child succeeded, SUCCESS for the rest of the run (the child is no longer
+            // ticked).
+            if (mem.once_fired) {
+                result = Status::success;
+                break;
+            }
+            result = count > 0 ? tick_node(n.children[0], ctx, trace) : Status::failure;
+            if (result == Status::success) mem.once_fired = true;
+            break;
+        }
     }
     if (trace != nullptr) trace->push_back({i, result});
     return result;

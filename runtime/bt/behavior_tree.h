@@ -5,7 +5,8 @@
 //   reactive_sequence  children in order from the first, every tick;
 //   parallel           ticks every child; SUCCESS when `success_threshold` succeeded, FAILURE
 //                      when that can no longer happen, RUNNING otherwise;
-//   not                swaps SUCCESS and FAILURE; once: the first SUCCESS of its child, then FAILURE.
+//   not                swaps SUCCESS and FAILURE; once: the first SUCCESS of its child, then FAILURE;
+//   latch              its child until that succeeds, then SUCCESS for the rest of the run.
 // Leaves are answered by a TickContext (the simulator): conditions are SUCCESS or FAILURE, a
 // maneuver leaf selects its configuration and reports SUCCESS, RUNNING (lane change / cut-in
 // until done) or FAILURE (cannot apply). The last selected maneuver is sticky.

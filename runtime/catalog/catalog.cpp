@@ -381,6 +381,16 @@ std::vector<ConditionDef> build_conditions() {
         "the vehicle has come to a stop at the stop line of its current lane (within a distance "
         "before it): the latch of a stop sign, true until it leaves that lane",
         {qty("distance", Dim::length, DefaultValue{3}, 0, 100, "largest gap from the front bumper to the line")});
+    add("time_to_arrival", ConditionKind::time_to_arrival,
+        "time a vehicle needs at its current speed to reach the next junction (its conflict zone) "
+        "or stop line along its lanes (along its route for the driver itself; along the shortest "
+        "way for another vehicle) is within bounds; a vehicle inside the junction has 0, one "
+        "standing still or with none within 300 m never arrives",
+        {vehicle("vehicle", false, "whose arrival (default: the driver itself)"),
+         choice("at", {"junction", "stop_line"}, 0, "where to"),
+         opt_qty("min", Dim::time, 0, 1e4, "lower bound"),
+         opt_qty("max", Dim::time, 0, 1e4, "upper bound")},
+        {"min", "max"});
     return cs;
 }
 

@@ -112,6 +112,7 @@ enum class ConditionKind {
     out_of_route,
     wait,
     stopped_at_line,
+    time_to_arrival,
 };
 
 struct ConditionDef {

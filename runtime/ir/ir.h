@@ -64,6 +64,7 @@ enum class NodeKind {
     maneuver,
     not_,
     once,
+    latch,
 };
 
 // One node of an expanded tree. Subtree references are gone: their roots are inlined, and

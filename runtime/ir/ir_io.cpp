@@ -15,7 +15,7 @@ namespace {
 using Json = nlohmann::ordered_json;
 
 const char* kNodeKinds[] = {"fallback", "sequence", "reactive_sequence", "parallel",
-                            "condition", "maneuver", "not", "once"};
+                            "condition", "maneuver", "not", "once", "latch"};
 const char* kRoadKinds[] = {"road", "junction", "lanelet2"};
 const char* kVehicleKinds[] = {"sdv", "trajectory", "static", "external"};
 const char* kMethods[] = {"linear", "uniform", "normal"};

@@ -254,7 +254,58 @@ bool stopped_at_line(Leaves& l, const ir::Node& n, int32_t) {
     return l.a.stopped_line == l.a.lane && l.a.stopped_gap <= l.num(n, "distance");
 }
 
-constexpr size_t kConditionKinds = static_cast<size_t>(ConditionKind::stopped_at_line) + 1;
+// Distance from (lane, s) along the lanes to the next junction lane (0 inside one) or stop line
+// ahead, the shortest over successors, up to `limit` (INFINITY beyond).
+double distance_to(const road::RoadNetwork& net, LaneId lane, double s, bool junction, double limit, int depth = 0) {
+    if (lane == kNoLane || depth > 12) return INFINITY;
+    const auto& ln = net.lane(lane);
+    if (junction && ln.in_junction) return 0;
+    if (!junction && ln.stop_line_s && *ln.stop_line_s >= s - 0.5) return std::max(0.0, *ln.stop_line_s - s);
+    const double rest = std::max(0.0, ln.length - s);
+    if (rest >= limit) return INFINITY;
+    double best = INFINITY;
+    for (const LaneId next : ln.successors) best = std::min(best, rest + distance_to(net, next, 0, junction, limit - rest, depth + 1));
+    return best;
+}
+
+bool time_to_arrival(Leaves& l, const ir::Node& n, int32_t) {
+    constexpr double kLimit = 300;
+    const auto* at = l.param(n, "at");
+    const bool junction = at == nullptr || at->choice == 0;
+    double dist = INFINITY, speed = 0;
+    if (names_other(l.param(n, "vehicle"))) {
+        const Seen* s = l.vehicle(n, "vehicle", false);
+        if (s == nullptr) return false;
+        const Snap& o = snap(l, s->index);
+        // Its front bumper, predicted like everything it perceives (constant speed to t_start).
+        dist = distance_to(l.w.net, o.lane, o.lane_s + 0.5 * o.length + o.speed * (l.t_start - l.t0), junction, kLimit);
+        speed = o.speed;
+    } else {
+        // Along the driver's own path, from its front bumper.
+        const Driver& d = *l.a.driver;
+        const double front = l.view.self.s + 0.5 * l.a.v->length;
+        for (size_t i = 0; i < d.path.size(); ++i) {
+            const auto& ln = l.w.net.lane(d.path[i]);
+            const double start = d.path_start[i], end = start + ln.length;
+            if (end < front) continue;
+            if (start > front + kLimit) break;
+            if (junction && ln.in_junction) {
+                dist = std::max(0.0, start - front);
+                break;
+            }
+            if (!junction && ln.stop_line_s && start + *ln.stop_line_s >= front - 0.5) {
+                dist = std::max(0.0, start + *ln.stop_line_s - front);
+                break;
+            }
+        }
+        speed = l.view.self.s_d;
+    }
+    // Never arriving (standing, or nothing ahead) is an infinite time: it passes `min`, not `max`.
+    const double t = dist == 0 ? 0 : speed > 0.1 ? dist / speed : INFINITY;
+    return in(t, l.num(n, "min"), l.num(n, "max"));
+}
+
+constexpr size_t kConditionKinds = static_cast<size_t>(ConditionKind::time_to_arrival) + 1;
 
 // Indexed by catalog::ConditionKind; each entry names its kind, so that tests/unit/sim can check
 // the table against the catalog entry by entry.
@@ -281,6 +332,7 @@ constexpr std::array<ConditionEntry, kConditionKinds> kTable = {{
     {ConditionKind::out_of_route, out_of_route},
     {ConditionKind::wait, wait},
     {ConditionKind::stopped_at_line, stopped_at_line},
+    {ConditionKind::time_to_arrival, time_to_arrival},
 }};
 
 constexpr bool in_kind_order() {

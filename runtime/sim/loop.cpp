@@ -21,7 +21,7 @@ void take_snapshot(World& w) {
     for (size_t i = 0; i < w.agents.size(); ++i) {
         const Agent& a = w.agents[i];
         w.snapshot[i] = {a.x, a.y, a.yaw, a.vx, a.vy, a.speed, a.accel, a.v->length, a.v->width, a.lane,
-                         a.v->kind == ir::VehicleKind::static_object, a.stopped_since, a.driver ? a.driver->maneuver : -1, a.active};
+                         a.v->kind == ir::VehicleKind::static_object, a.stopped_since, a.driver ? a.driver->maneuver : -1, a.active, a.lane_s};
     }
 }
 

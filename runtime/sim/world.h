@@ -50,6 +50,7 @@ struct Snap {
     double stopped_since = -1;
     int32_t maneuver = -1;
     bool active = true;  // false: gone from the run (left the road network)
+    double lane_s = 0;   // arc length on `lane`
 };
 
 // One planning cycle as the decision trace shows it (kept only with RunOptions::trace).

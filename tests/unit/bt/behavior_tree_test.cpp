@@ -1,6 +1,8 @@
 // Tick semantics of SPEC §3.4 on hand-built trees with a scripted world.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+
 #include <functional>
 #include <map>
 
@@ -163,6 +165,33 @@ TEST_CASE("not inverts, once fires once") {
     CHECK(inst.nodes[static_cast<size_t>(tree.selected())].name == "m2");
     w.conditions["d"] = true;
     CHECK(tree.tick(w) == Status::failure);
+}
+
+TEST_CASE("latch: FAILURE until its child succeeds, then SUCCESS for good without ticking the child") {
+    auto inst = make([](Builder& b) {
+        const auto c = b.add(ir::NodeKind::condition, "c");
+        const auto l = b.add(ir::NodeKind::latch, "latch", {c});
+        const auto go = b.add(ir::NodeKind::maneuver, "go");
+        const auto seq = b.add(ir::NodeKind::sequence, "seq", {l, go});
+        const auto wait = b.add(ir::NodeKind::maneuver, "wait");
+        b.inst.nodes[0] = {ir::NodeKind::fallback, {seq, wait}, -1, {}, 0, "root", "", -1, {}};
+    });
+    bt::BehaviorTree tree(&inst);
+    World w;
+    for (int i = 0; i < 3; ++i) {
+        tree.tick(w);
+        CHECK(inst.nodes[static_cast<size_t>(tree.selected())].name == "wait");
+    }
+    w.conditions["c"] = true;
+    tree.tick(w);
+    CHECK(inst.nodes[static_cast<size_t>(tree.selected())].name == "go");
+    w.conditions["c"] = false;  // no longer true: the latch holds
+    for (int i = 0; i < 3; ++i) {
+        w.log.clear();
+        tree.tick(w);
+        CHECK(inst.nodes[static_cast<size_t>(tree.selected())].name == "go");
+        CHECK(std::find(w.log.begin(), w.log.end(), "c") == w.log.end());
+    }
 }
 
 TEST_CASE("the selected maneuver is sticky; a failing maneuver leaf is not selected") {
