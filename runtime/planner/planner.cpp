@@ -149,7 +149,7 @@ bool stays_clear(const Trajectory& tr, double from, double horizon, const PlanRe
             if (is_follower(o, req.start, req.length_m, req.width_m)) continue;
             // Standing still can be no one's fault: only moving can conflict.
             if (standing) continue;
-            const double os = o.state.s + o.state.s_d * t, od = o.state.d + o.state.d_d * t;
+            const double os = o.state.s + o.state.s_d * t, od = o.d_at(t);
             if (std::fabs(os - f.s) > 0.5 * (req.length_m + o.length_m) + 6.0 || std::fabs(od - f.d) > 6.0) continue;
             if (clearance(own, f.s, f.d, footprint(o.length_m, o.width_m), os, od) < 0) return false;
         }
@@ -347,7 +347,7 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
                     for (size_t oi = 0; oi < req.obstacles.size(); ++oi) {
                         const Obstacle& o = req.obstacles[oi];
                         const double os = o.state.s + o.state.s_d * t;
-                        const double od = o.state.d + o.state.d_d * t;
+                        const double od = o.d_at(t);
                         const double reach = 0.5 * (req.length_m + o.length_m) + 6.0;
                         if (std::fabs(os - s) > reach || std::fabs(od - d) > 6.0) continue;
                         const double clear = clearance(own, s, d, footprints[oi], os, od);

@@ -5,6 +5,10 @@
 // (ties by candidate index), or an emergency-brake fallback when nothing is feasible.
 #pragma once
 
+#include <limits>
+
+#include <algorithm>
+
 #include <array>
 #include <cstdint>
 #include <span>
@@ -27,6 +31,11 @@ struct Obstacle {
     FrenetState state;
     double length_m = 4.5, width_m = 1.8;
     bool is_static = false;
+    // Where its lateral motion stops (a driver moving to its lane's or its target lane's
+    // centre): the constant-velocity prediction of d is clamped to [d_min, d_max].
+    double d_min = -std::numeric_limits<double>::infinity(), d_max = std::numeric_limits<double>::infinity();
+    // Its predicted lateral offset t seconds ahead.
+    double d_at(double t) const { return std::clamp(state.d + state.d_d * t, d_min, d_max); }
 };
 
 // A lane's lateral extent in the reference frame (left_d > right_d).

@@ -129,6 +129,27 @@ bt::Status Leaves::lane_move(const ir::Node& n, catalog::ManeuverKind kind) {
     const bool same = side > 0 ? l.left_same_direction : l.right_same_direction;
     if (nb == kNoLane || !same) return bt::Status::failure;
     const double lw = l.width, target_d = side * lw;
+    // Two vehicles moving into the same lane side by side (now or in 4 s): the one that began
+    // later aborts back to its lane; began in the same cycle: the one farther from the target
+    // lane's centre, then the higher vehicle index.
+    if (d.lane_move_target != nb) {
+        d.lane_move_target = nb;
+        d.lane_move_since = t0;
+    }
+    for (const Seen& s : view.seen) {
+        const Snap& o = w.snapshot[static_cast<size_t>(s.index)];
+        if (o.target_lane != nb) continue;
+        const double ds = s.f.s - view.self.s, dv = s.f.s_d - view.self.s_d;
+        const double reach = 0.5 * (s.length + a.v->length) + 5.0;
+        if (std::min(std::fabs(ds), std::fabs(ds + 4.0 * dv)) > reach) continue;
+        const double mine = std::fabs(view.self.d - target_d), theirs = std::fabs(s.f.d - target_d);
+        const bool later = o.lane_move_since < d.lane_move_since - 1e-9;
+        const bool same = std::fabs(o.lane_move_since - d.lane_move_since) <= 1e-9;
+        if (later || (same && (mine > theirs + 0.05 || (std::fabs(mine - theirs) <= 0.05 && s.index < a.index)))) {
+            d.lane_move_target = kNoLane;
+            return bt::Status::failure;
+        }
+    }
     // Done when the whole footprint is inside the target lane.
     if (std::fabs(view.self.d - target_d) + 0.5 * a.v->width <= 0.5 * lw + 1e-6) {
         d.target_lane = nb;

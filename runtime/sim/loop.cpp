@@ -16,12 +16,21 @@
 namespace sdv::sim {
 namespace {
 
-void take_snapshot(World& w) {
+// How far sideways an SDV's plan in force still moves it (frame-free: end minus now).
+double lateral_to_go(const Agent& a, double t) {
+    if (!a.driver || !a.driver->plan) return NAN;
+    const ActivePlan& p = *a.driver->plan;
+    return p.traj.d.x(p.traj.duration) - p.traj.d.x(std::clamp(t - p.start, 0.0, p.traj.duration));
+}
+
+void take_snapshot(World& w, double t) {
     w.snapshot.resize(w.agents.size());
     for (size_t i = 0; i < w.agents.size(); ++i) {
         const Agent& a = w.agents[i];
         w.snapshot[i] = {a.x, a.y, a.yaw, a.vx, a.vy, a.speed, a.accel, a.v->length, a.v->width, a.lane,
-                         a.v->kind == ir::VehicleKind::static_object, a.stopped_since, a.driver ? a.driver->maneuver : -1, a.active, a.lane_s};
+                         a.v->kind == ir::VehicleKind::static_object, a.stopped_since, a.driver ? a.driver->maneuver : -1, a.active, a.lane_s, a.lane_d,
+                         a.driver ? a.driver->target_lane : kNoLane, a.driver ? a.driver->lane_move_since : 0,
+                         lateral_to_go(a, t)};
     }
 }
 
@@ -78,7 +87,7 @@ RunResult run(World& w, RunObserver* observer) {
             }
         }
         // 2. Snapshot; 3. ground truth; 4. report.
-        take_snapshot(w);
+        take_snapshot(w, t);
         const size_t events_before = out.events.size();
         truth.observe(w, t, tick);
         for (size_t e = events_before; e < out.events.size(); ++e) {

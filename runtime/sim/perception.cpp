@@ -55,6 +55,13 @@ void View::build(const World& w, const Agent& a, double t0, double t_start) {
         s.width = o.width;
         s.speed = o.speed;
         s.dist = dist;
+        // A driven vehicle moving along this frame (within 30°) stops moving sideways where its
+        // plan in force ends (its lane's centre, the lane it changes into, a swerve's offset).
+        if (!std::isnan(o.lateral_to_go) && o.speed > 0.5 && s.f.s_d > 0.85 * o.speed) {
+            const double target = s.f.d - s.f.d_d * (t_start - t0) + o.lateral_to_go;  // from the snapshot's d
+            s.d_min = std::min(s.f.d, target) - 0.3;
+            s.d_max = std::max(s.f.d, target) + 0.3;
+        }
         seen.push_back(s);
     }
 }

@@ -5,6 +5,7 @@
 // the band's centre) and by position along s (ahead, beside: overlapping along s, behind).
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "runtime/sim/world.h"
@@ -18,6 +19,9 @@ struct Seen {
     double length = 4.5, width = 1.8;
     double speed = 0;
     double dist = 0;
+    // Where a driver's lateral motion stops in this frame: another SDV driving along it moves
+    // to where its plan in force ends (±∞: not known).
+    double d_min = -INFINITY, d_max = INFINITY;
 };
 
 class View {

@@ -33,7 +33,8 @@ void make_request(const Leaves& l, int32_t sel, PlanInputs& out) {
     req = planner::PlanRequest{};
     out.obstacles.clear();
     for (const Seen& s : l.view.seen) {
-        out.obstacles.push_back({s.index, {s.f.s, s.f.s_d, 0, s.f.d, s.f.d_d, 0}, s.length, s.width, w.snapshot[static_cast<size_t>(s.index)].is_static});
+        out.obstacles.push_back({s.index, {s.f.s, s.f.s_d, 0, s.f.d, s.f.d_d, 0}, s.length, s.width, w.snapshot[static_cast<size_t>(s.index)].is_static,
+                                 s.d_min, s.d_max});
     }
     const double lw = a.lane != kNoLane ? w.net.lane(a.lane).width : 3.5;
     req.current_lane = {0, 0.5 * lw, -0.5 * lw};

@@ -57,6 +57,7 @@ void plan_cycle(const World& w, Agent& a, double t0) {
         }
     }
     leaves.perceive();
+    d.target_lane = kNoLane;  // set again by a lane change or cut-in that is still running
     std::vector<bt::Visit> visits;
     d.tree->tick(leaves, trace ? &visits : nullptr);
     if (leaves.switched && d.target_lane != kNoLane) {
@@ -78,6 +79,7 @@ void plan_cycle(const World& w, Agent& a, double t0) {
         leaves.perceive();
         d.tree->tick(leaves, trace ? &visits : nullptr);
     }
+    if (d.target_lane == kNoLane) d.lane_move_target = kNoLane;
     const int32_t sel = d.tree->selected();
     if (sel >= 0) {
         d.maneuver = sel;

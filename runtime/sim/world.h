@@ -50,7 +50,10 @@ struct Snap {
     double stopped_since = -1;
     int32_t maneuver = -1;
     bool active = true;  // false: gone from the run (left the road network)
-    double lane_s = 0;   // arc length on `lane`
+    double lane_s = 0, lane_d = 0;  // on `lane`
+    LaneId target_lane = kNoLane;  // the lane a running lane change / cut-in moves into
+    double lane_move_since = 0;    // when that move began
+    double lateral_to_go = NAN;    // lateral motion left in its plan in force (NaN: no plan)
 };
 
 // One planning cycle as the decision trace shows it (kept only with RunOptions::trace).
@@ -81,6 +84,9 @@ struct Driver {
     int32_t maneuver = -1;  // selected node
     std::string maneuver_name = "none";
     LaneId target_lane = kNoLane;  // of a running lane change / cut-in
+    // The lane a lane change or cut-in has been moving into since when (kNoLane: none).
+    LaneId lane_move_target = kNoLane;
+    double lane_move_since = 0;
     // A cut-in: its node, the plan count when last ticked, when it began, whether it reached
     // the target lane, when its end state is due (−1: not planned yet), whether it ended.
     struct CutIn {

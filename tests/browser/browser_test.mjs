@@ -5,8 +5,10 @@
 //
 // Opens the report in headless Chromium (/usr/bin/chromium, or $CHROMIUM) through
 // playwright-core, drives the real UI (time slider, play button, keyboard, map click,
-// timeline, charts), reads the state back through window.sdvView, prints one line per
-// check and takes a full-page screenshot. Exit status 0 = all checks passed, 1 = failure.
+// timeline, charts), reads the state back through window.sdvView, checks the metrics
+// tables, the expectations (every part of a compound one, windows) and the charts' extremes
+// against the summary.json embedded in the page, prints one line per check and takes a
+// full-page screenshot. Exit status 0 = all checks passed, 1 = failure.
 import { chromium } from 'playwright-core';
 import { pathToFileURL } from 'node:url';
 import path from 'node:path';
@@ -222,6 +224,136 @@ async function run(browser) {
     pass(`decision panel: ${sd.decision.vehicle} plan at t=${sd.decision.time} → '${sd.decision.maneuver}', ` +
       `${dec.rows} BT nodes (${dec.on} on the chosen path), ${sd.candidatePathsDrawn} candidate paths drawn`);
   } else pass(`decision panel: ${dec.text.trim().slice(0, 80)}`);
+
+  // ---- metrics tables: every metric of summary.json, with its unit; null as "—" --------
+  const summary = await page.evaluate(() => JSON.parse(document.getElementById('sdv-data').textContent).summary);
+  const metrics = summary.metrics || {};
+  const PAIR_UNITS = { min_clearance: 'm', min_gap: 'm', min_lateral: 'm', min_ttc: 's', min_headway: 's' };
+  const VEH_UNITS = { min_speed: 'm/s', max_speed: 'm/s', min_acc: 'm/s²', max_acc: 'm/s²', max_jerk: 'm/s³', reached_goal: '',
+    fallback_used: '', plans: '', fallback_plans: '', fallback_share: '%', longest_stall_s: 's' };
+  // The tables as shown: per table its column keys with the unit under the name, and per row
+  // the row's key (first cell) and each cell's text and tooltip by column.
+  const tables = await page.evaluate(() => [...document.querySelectorAll('#metrics table')].map((t) => ({
+    cols: [...t.querySelectorAll('th[data-col]')].map((th) => ({ key: th.dataset.col, unit: (th.querySelector('.unit') || {}).textContent || '' })),
+    rows: [...t.querySelectorAll('tr')].slice(1).map((tr) => ({
+      key: tr.cells[0].textContent,
+      cells: Object.fromEntries([...tr.querySelectorAll('td[data-col]')].map((td) => [td.dataset.col, { text: td.textContent.trim(), title: td.title }])),
+    })),
+  })));
+  const findCell = (rowKey, col) => {
+    for (const t of tables) {
+      if (!t.cols.some((c) => c.key === col)) continue;
+      const r = t.rows.find((x) => x.key === rowKey);
+      if (r && r.cells[col]) return { cell: r.cells[col], unit: t.cols.find((c) => c.key === col).unit };
+    }
+    return null;
+  };
+  const checkCell = (what, rowKey, col, value, unit) => {
+    const f = findCell(rowKey, col);
+    if (!f) fail(`metrics: no '${col}' cell for ${what} ${rowKey}`);
+    const wantUnit = unit ? `[${unit}]` : '';
+    if (f.unit.replace(/\u00a0/g, '').trim() !== wantUnit) fail(`metrics: column '${col}' shows unit '${f.unit}', expected '${wantUnit}'`);
+    const { text, title } = f.cell;
+    if (value === null) {
+      const why = col === 'min_ttc' ? 'never closing' : 'never measured';
+      if (text !== '—' || !title.startsWith(why)) fail(`metrics: ${what} ${rowKey} ${col} is null but shows '${text}' (tooltip '${title}'), expected '—' with '${why}'`);
+    } else if (typeof value === 'boolean') {
+      if (text !== (value ? 'yes' : 'no')) fail(`metrics: ${what} ${rowKey} ${col} = ${value} shown as '${text}'`);
+    } else {
+      const shown = col === 'fallback_share' ? Number(text) / 100 : Number(text);
+      if (!(Math.abs(shown - value) <= 0.005 * Math.max(1, Math.abs(value)))) fail(`metrics: ${what} ${rowKey} ${col} = ${value} shown as '${text}'`);
+    }
+  };
+  const pairs = (metrics.pairs || []).filter(Boolean), vms = (metrics.vehicles || []).filter(Boolean);
+  let cells = 0, nulls = 0;
+  for (const p of pairs) {
+    const key = p.vehicles.join(' ↔ ');
+    for (const [col, unit] of Object.entries(PAIR_UNITS)) {
+      if (!(col in p)) fail(`summary.json: pair ${key} has no ${col}`);
+      checkCell('pair', key, col, p[col], unit); cells++; nulls += p[col] === null;
+    }
+  }
+  for (const m of vms) {
+    for (const [col, unit] of Object.entries(VEH_UNITS)) {
+      if (!(col in m)) fail(`summary.json: vehicle ${m.vehicle} has no ${col}`);
+      checkCell('vehicle', m.vehicle, col, m[col], unit); cells++; nulls += m[col] === null;
+    }
+  }
+  pass(`metrics: ${pairs.length} pairs × ${Object.keys(PAIR_UNITS).length} and ${vms.length} vehicles × ${Object.keys(VEH_UNITS).length} ` +
+    `columns with units; ${cells} cells match summary.json (${nulls} null shown as '—' with the reason as tooltip)`);
+
+  // ---- expectations: each statement, its window, and every part of a compound one -------
+  const ex = (summary.expectations || []).filter(Boolean);
+  const shownEx = await page.evaluate(() => [...document.querySelectorAll('#expectations tr[data-exp]')].map((tr) => ({
+    exp: Number(tr.dataset.exp), part: tr.dataset.part == null ? null : Number(tr.dataset.part), time: tr.dataset.time == null ? null : Number(tr.dataset.time),
+    text: tr.textContent, expr: (tr.querySelector('.expr') || {}).textContent || '', win: (tr.querySelector('.win') || {}).textContent || '',
+    measured: (tr.querySelector('.meas') || {}).textContent || '',
+  })));
+  const secs = (t) => `${+t.toFixed(3)} s`;
+  const valueText = (p) => (p.unit === 'ratio' ? `${(100 * p.value).toFixed(1)} %` : p.unit ? ` ${p.unit}` : '');
+  let partRows = 0, windows = 0;
+  for (const [i, e] of ex.entries()) {
+    const head = shownEx.find((r) => r.exp === i && r.part === null);
+    if (!head) fail(`expectation ${i} '${e.expect}' is not shown`);
+    if (!head.text.includes(e.passed ? 'PASS' : 'FAIL')) fail(`expectation '${e.expect}' does not show ${e.passed ? 'PASS' : 'FAIL'}: '${head.text}'`);
+    if (e.window) {
+      const a = e.window.after, b = e.window.before;
+      const want = a != null && b != null ? `during ${secs(a)} .. ${secs(b)}` : a != null ? `after ${secs(a)}` : `before ${secs(b)}`;
+      if (head.win !== want) fail(`expectation '${e.expect}' shows window '${head.win}', expected '${want}'`);
+      windows++;
+    }
+    const parts = (e.parts || []).filter(Boolean);
+    const single = parts.length === 1 && parts[0].holds === e.passed;
+    const rows = shownEx.filter((r) => r.exp === i && r.part !== null);
+    const check = (p, r, where) => { // the value (or the reason it has none) and its unit
+      if ('unit' in p) {
+        if (p.value === null) { if (!r.measured.includes(p.none || 'never measured')) fail(`${where}: '${p.call}' has no value but shows '${r.measured}'`); }
+        else if (!r.measured.includes(valueText(p)) || !(Math.abs(parseFloat(r.measured) - (p.unit === 'ratio' ? 100 : 1) * p.value) <= 0.005 * Math.max(1, Math.abs(p.value) * (p.unit === 'ratio' ? 100 : 1)))) {
+          fail(`${where}: '${p.call}' measured ${p.value} ${p.unit} but shows '${r.measured}'`);
+        }
+      } else if (p.time != null) {
+        if (!r.measured.includes(`at ${p.time.toFixed(2)} s`) || r.time !== p.time) fail(`${where}: '${p.call}' at ${p.time} s shows '${r.measured}'`);
+      } else if (p.holds && p.metric !== 'no_collision') {
+        if (!r.measured.trim() || r.measured.startsWith('no ')) fail(`${where}: '${p.call}' holds but shows '${r.measured}'`);
+      } else if (!r.measured.startsWith('no ')) fail(`${where}: '${p.call}' (no event) shows '${r.measured}'`);
+    };
+    if (single) {
+      if (rows.length) fail(`expectation '${e.expect}' (a single call) lists ${rows.length} parts`);
+      check(parts[0], head, 'expectation');
+      continue;
+    }
+    if (rows.length !== parts.length) fail(`expectation '${e.expect}' has ${parts.length} parts but shows ${rows.length}`);
+    parts.forEach((p, j) => {
+      const r = rows.find((x) => x.part === j);
+      if (!r || !r.expr.includes(p.call)) fail(`part ${j} '${p.call}' of '${e.expect}' is not shown`);
+      if (!r.expr.trim().endsWith(p.holds ? 'is true' : 'is false')) fail(`part '${p.call}' holds=${p.holds} but shows '${r.expr}'`);
+      check(p, r, `part ${j} of '${e.expect}'`);
+      partRows++;
+    });
+  }
+  pass(`expectations: ${ex.length} shown with their verdicts, ${partRows} parts of compound ones with truth and measured value, ${windows} windows`);
+  const timed = shownEx.find((r) => r.time !== null);
+  if (timed) { // a part that happened at a time (a collision, the goal) jumps there
+    await page.locator(`#expectations tr[data-exp="${timed.exp}"]` + (timed.part === null ? ':not([data-part])' : `[data-part="${timed.part}"]`)).click();
+    await sleep(50);
+    const st = await state();
+    if (Math.abs(st.time - timed.time) > 0.05 + (s0.t1 - s0.t0) / (N - 1)) fail(`clicking the expectation row at ${timed.time} s jumped to t=${st.time}`);
+    pass(`expectations: clicking '${timed.expr.trim()}' (at ${timed.time} s) jumps to t=${st.time}`);
+  }
+
+  // ---- charts: the run's extremes of the selected vehicle from summary.json ----------------
+  const sel2 = (await state()).selected, vm = vms.find((m) => m.vehicle === sel2);
+  if (vm) {
+    const ext = await page.evaluate(() => [...document.querySelectorAll('#charts .ext')].map((e) => e.textContent));
+    if (!ext[0].includes('min ') || !ext[0].includes('max ') || !ext[1].includes('min ') || !ext[1].includes('max '))
+      fail(`speed / acceleration charts do not show ${sel2}'s extremes: '${ext[0]}', '${ext[1]}'`);
+    const num = (s, label) => Number((s.match(new RegExp(label.replace(/[|]/g, '\\$&') + ' (-?[0-9.]+)')) || [])[1]);
+    for (const [s, label, v] of [[ext[0], 'min', vm.min_speed], [ext[0], 'max', vm.max_speed], [ext[1], 'min', vm.min_acc], [ext[1], 'max', vm.max_acc]]) {
+      if (v !== null && !(Math.abs(num(s, label) - v) <= 0.005 * Math.max(1, Math.abs(v)))) fail(`chart head '${s}': ${label} should be ${v}`);
+    }
+    pass(`charts of ${sel2}: ${ext.filter(Boolean).join(' | ')} (dashed lines, from summary.json)`);
+  }
+  noErrors('metrics and expectations');
 
   // ---- screenshot --------------------------------------------------------------------
   await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
