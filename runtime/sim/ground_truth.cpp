@@ -14,6 +14,8 @@ namespace {
 constexpr double kClosing = 0.1;  // m/s
 // The one behind drives forward (headway is defined) above this speed along the lane.
 constexpr double kMoving = 0.1;  // m/s
+// Pairs are measured while their centres are within the sensor range, and at least this.
+constexpr double kPairRange = 100;  // m
 
 // A footprint with its heading as a unit vector (computed once per tick).
 struct Frame {
@@ -59,21 +61,50 @@ void fold(VehicleMetrics& m, const Agent& a, std::optional<double> jerk) {
 
 }  // namespace
 
-GroundTruth::GroundTruth(size_t n, RunResult& out) : out_(out), touching_(n, std::vector<bool>(n, false)), lanes_(n) {
-    out.vehicles.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-        for (size_t j = i + 1; j < n; ++j) {
-            PairMetrics m;
-            m.a = static_cast<int>(i);
-            m.b = static_cast<int>(j);
-            out.pairs.push_back(m);
-        }
+GroundTruth::GroundTruth(size_t n, RunResult& out) : out_(out), n_(n), named_(n), lanes_(n) { out.vehicles.resize(n); }
+
+uint32_t GroundTruth::pair_index(int i, int j) {
+    const uint64_t key = static_cast<uint64_t>(i) * n_ + static_cast<uint64_t>(j);
+    const auto [it, fresh] = index_.try_emplace(key, static_cast<uint32_t>(out_.pairs.size()));
+    if (fresh) {
+        PairMetrics m;
+        m.a = i;
+        m.b = j;
+        out_.pairs.push_back(m);
+        for (auto& win : out_.windows) win.pairs.push_back(m);
+        touching_tick_.push_back(-2);
     }
+    return it->second;
 }
 
-// One set of metrics per distinct window of the scenario's expectations.
+void GroundTruth::finish() {
+    std::vector<uint32_t> order(out_.pairs.size());
+    for (uint32_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) {
+        return std::make_pair(out_.pairs[x].a, out_.pairs[x].b) < std::make_pair(out_.pairs[y].a, out_.pairs[y].b);
+    });
+    auto permute = [&](std::vector<PairMetrics>& v) {
+        std::vector<PairMetrics> sorted;
+        sorted.reserve(v.size());
+        for (uint32_t k : order) sorted.push_back(v[k]);
+        v = std::move(sorted);
+    };
+    permute(out_.pairs);
+    for (auto& win : out_.windows) permute(win.pairs);
+    index_.clear();
+}
+
+// The pairs the expectations name, then one set of metrics per distinct window of them.
 void GroundTruth::start(const World& w) {
     started_ = true;
+    for (const ir::Expect& e : w.scenario.expects) {
+        if (e.vehicles.size() != 2 || e.vehicles[0] == e.vehicles[1]) continue;
+        const int i = std::min(e.vehicles[0], e.vehicles[1]), j = std::max(e.vehicles[0], e.vehicles[1]);
+        if (i < 0 || static_cast<size_t>(j) >= n_) continue;
+        auto& list = named_[static_cast<size_t>(i)];
+        if (std::find(list.begin(), list.end(), j) == list.end()) list.push_back(j);
+        pair_index(i, j);
+    }
     for (int32_t root : w.scenario.expect_roots) {
         const ir::Expect& e = w.scenario.expects[static_cast<size_t>(root)];
         if (!e.after && !e.before) continue;
@@ -112,24 +143,41 @@ void GroundTruth::observe(World& w, double t, int tick) {
     for (size_t i = 0; i < w.agents.size(); ++i) {
         if (w.agents[i].active) lanes_[i] = on_lane(w, w.agents[i]);
     }
-    measure_pairs(w, t);
+    measure_pairs(w, t, tick);
     measure_vehicles(w, t, tick);
 }
 
-void GroundTruth::measure_pairs(World& w, double t) {
+void GroundTruth::measure_pairs(World& w, double t, int tick) {
     auto& agents = w.agents;
     const size_t n = agents.size();
-    std::vector<Box> boxes(n);
-    std::vector<Frame> frames(n);
+    thread_local std::vector<Box> boxes;
+    thread_local std::vector<Frame> frames;
+    thread_local std::vector<int> near;
+    boxes.resize(n);
+    frames.resize(n);
     for (size_t i = 0; i < n; ++i) {
         const Agent& a = agents[i];
         boxes[i] = {{a.x, a.y}, a.yaw, a.v->length, a.v->width};
         frames[i] = {{a.x, a.y}, {std::cos(a.yaw), std::sin(a.yaw)}, a.v->length, a.v->width};
     }
-    size_t pi = 0;
+    const double range = std::max(w.scenario.sensor_range, kPairRange);
     for (size_t i = 0; i < n; ++i) {
-        for (size_t j = i + 1; j < n; ++j, ++pi) {
-            if (!agents[i].active || !agents[j].active) continue;
+        if (!agents[i].active) continue;
+        // The neighbours j > i within range (the snapshot's grid: the positions of this tick),
+        // and the partners an expectation names.
+        w.grid.query(agents[i].x, agents[i].y, range, near);
+        near.erase(near.begin(), std::upper_bound(near.begin(), near.end(), static_cast<int>(i)));
+        const auto& named = named_[i];
+        if (!named.empty()) {
+            near.insert(near.end(), named.begin(), named.end());
+            std::sort(near.begin(), near.end());
+            near.erase(std::unique(near.begin(), near.end()), near.end());
+        }
+        for (const int jj : near) {
+            const auto j = static_cast<size_t>(jj);
+            if (!agents[j].active) continue;
+            const uint32_t pi = pair_index(static_cast<int>(i), jj);
+            const bool was_touching = touching_tick_[pi] == tick - 1;
             // The exact box distance only when it could lower a minimum (of the run or of a
             // window holding this tick): a lower bound from the centres and the half
             // diagonals first.
@@ -138,14 +186,14 @@ void GroundTruth::measure_pairs(World& w, double t) {
             PairSample s;
             const double centre = road::distance(boxes[i].centre, boxes[j].centre);
             const double reach = 0.5 * (std::hypot(boxes[i].length, boxes[i].width) + std::hypot(boxes[j].length, boxes[j].width));
-            const bool near = centre - reach < need || touching_[i][j] || centre <= reach;
-            if (near) s.clearance = gap(boxes[i], boxes[j]);
-            const bool hit = near && s.clearance <= 0;
-            if (hit && !touching_[i][j]) {
+            const bool close = centre - reach < need || was_touching || centre <= reach;
+            if (close) s.clearance = gap(boxes[i], boxes[j]);
+            const bool hit = close && s.clearance <= 0;
+            if (hit && !was_touching) {
                 const double rel = std::hypot(agents[i].vx - agents[j].vx, agents[i].vy - agents[j].vy);
-                out_.events.push_back({t, "collision", {static_cast<int>(i), static_cast<int>(j)}, rel, impact_zone(boxes[i], boxes[j])});
+                out_.events.push_back({t, "collision", {static_cast<int>(i), jj}, rel, impact_zone(boxes[i], boxes[j])});
             }
-            touching_[i][j] = hit;
+            if (hit) touching_tick_[pi] = tick;
             s.lateral = std::min(lateral_clearance(frames[i], frames[j], frames[i].heading, reach),
                                  lateral_clearance(frames[i], frames[j], frames[j].heading, reach));
             // Along the lane, while both centres are in the same lane or the one ahead is in

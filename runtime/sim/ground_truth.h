@@ -2,8 +2,13 @@
 // episode), per-pair clearances, same-lane gaps, TTC and headway, per-vehicle extremes, the
 // stop-line latch, goals. It observes the world after every agent has advanced and before anyone
 // plans, and folds each tick into the whole run and into every expectation window that holds it.
+// Pairs are measured while their centres are within the pair range (the sensor range, at least
+// 100 m; found through the snapshot's grid) and always for the pairs an expectation names; a
+// pair never measured has no entry (RunResult::pairs holds the measured ones, by (a, b)).
 #pragma once
 
+#include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "runtime/sim/simulation.h"
@@ -17,6 +22,8 @@ public:
     // first observation).
     GroundTruth(size_t agents, RunResult& out);
     void observe(World& w, double t, int tick);
+    // Puts the pairs in (a, b) order (in the run and in every window); call once, at the end.
+    void finish();
     // A vehicle whose goal ends the run reached it.
     bool ended() const { return ended_; }
 
@@ -28,12 +35,17 @@ private:
         double speed = 0;  // along the lane's direction
     };
     void start(const World& w);
-    void measure_pairs(World& w, double t);
+    void measure_pairs(World& w, double t, int tick);
+    // The pair's index in out_.pairs (and every window's pairs), created on first use (i < j).
+    uint32_t pair_index(int i, int j);
     void measure_vehicles(World& w, double t, int tick);
     OnLane on_lane(const World& w, const Agent& a) const;
 
     RunResult& out_;
-    std::vector<std::vector<bool>> touching_;
+    size_t n_ = 0;
+    std::unordered_map<uint64_t, uint32_t> index_;  // i·n + j → pair index
+    std::vector<int> touching_tick_;                // per pair: the last tick it was in contact
+    std::vector<std::vector<int>> named_;           // per vehicle i: the j > i an expectation names
     std::vector<OnLane> lanes_;
     std::vector<WindowMetrics*> now_;  // the windows holding this tick
     bool started_ = false;

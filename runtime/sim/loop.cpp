@@ -32,6 +32,17 @@ void take_snapshot(World& w, double t) {
                          a.driver ? a.driver->target_lane : kNoLane, a.driver ? a.driver->lane_move_since : 0,
                          lateral_to_go(a, t)};
     }
+    thread_local std::vector<double> xs, ys;
+    thread_local std::vector<char> on;
+    xs.resize(w.snapshot.size());
+    ys.resize(w.snapshot.size());
+    on.resize(w.snapshot.size());
+    for (size_t i = 0; i < w.snapshot.size(); ++i) {
+        xs[i] = w.snapshot[i].x;
+        ys[i] = w.snapshot[i].y;
+        on[i] = w.snapshot[i].active ? 1 : 0;
+    }
+    w.grid.build(xs, ys, on, w.scenario.sensor_range);
 }
 
 // The planning cycles of `due`, on up to `threads` threads; each writes only its own agent.
@@ -124,6 +135,7 @@ RunResult run(World& w, RunObserver* observer) {
         if (w.options.realtime) std::this_thread::sleep_until(wall0 + std::chrono::duration<double>((tick + 1) * w.dt));
         if (w.options.progress && tick % 30 == 0) w.options.progress(static_cast<double>(tick) / total_ticks);
     }
+    truth.finish();
     out.ticks = last_tick;
     out.duration = last_tick * w.dt;
     out.timed_out = !truth.ended();

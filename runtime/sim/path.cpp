@@ -11,7 +11,7 @@ constexpr double kPathBehind = 60.0;
 }  // namespace
 
 std::shared_ptr<const road::ReferenceLine> build_path(const road::RoadNetwork& net, const std::vector<road::RouteStep>& route,
-                                                      Driver& d, LaneId from, double from_s) {
+                                                      Driver& d, LaneId from, double from_s, World::PathCache& cache) {
     d.path.clear();
     d.path_start.clear();
     std::vector<road::Vec2> pts;
@@ -59,13 +59,30 @@ std::shared_ptr<const road::ReferenceLine> build_path(const road::RoadNetwork& n
         if (std::find(d.path.begin(), d.path.end(), next) != d.path.end()) break;  // loops
         cur = next;
     }
+    // The line is a function of its lanes (the predecessor, then the path): shared by key.
+    std::vector<LaneId> key;
+    key.reserve(d.path.size() + 1);
+    key.push_back(first.predecessors.empty() ? kNoLane : first.predecessors.front());
+    key.insert(key.end(), d.path.begin(), d.path.end());
+    {
+        std::lock_guard<std::mutex> lock(cache.mutex);
+        if (auto it = cache.lines.find(key); it != cache.lines.end()) {
+            d.path_start = it->second.starts;
+            return it->second.line;
+        }
+    }
     auto ref = road::ReferenceLine::build(pts);
     if (!ref) return nullptr;
     // Lane starts measured on the fitted line.
     for (size_t i = 0; i < d.path.size(); ++i) {
         d.path_start[i] = ref->project(net.lane(d.path[i]).centre.front(), d.path_start[i]).s;
     }
-    return std::make_shared<const road::ReferenceLine>(std::move(*ref));
+    auto line = std::make_shared<const road::ReferenceLine>(std::move(*ref));
+    std::lock_guard<std::mutex> lock(cache.mutex);
+    // Another thread may have built the same line meanwhile: keep the first (they are equal).
+    const auto [it, fresh] = cache.lines.try_emplace(key, World::PathCache::Entry{line, d.path_start});
+    d.path_start = it->second.starts;
+    return it->second.line;
 }
 
 }  // namespace sdv::sim

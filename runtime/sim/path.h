@@ -16,7 +16,8 @@ namespace sdv::sim {
 // the route says nothing), reaching at least 300 m beyond `from_s` (the driver's position on
 // `from`) however long the lanes are: fills d.path and d.path_start and returns the fitted line,
 // or null when no line can be fitted.
+// Lines are shared through `cache` (World::paths) by their lanes.
 std::shared_ptr<const road::ReferenceLine> build_path(const road::RoadNetwork& net, const std::vector<road::RouteStep>& route,
-                                                      Driver& d, LaneId from, double from_s = 0);
+                                                      Driver& d, LaneId from, double from_s, World::PathCache& cache);
 
 }  // namespace sdv::sim

@@ -19,7 +19,7 @@ void View::build(const World& w, const Agent& a, double t0, double t_start) {
         const planner::FrenetState& f = *in_plan;
         c = dr.plan->ref->to_cartesian({f.s, f.s_d, f.s_dd, f.d, f.d_d, f.d_dd});
     }
-    self = ref.to_frenet(c);
+    self = ref.to_frenet(c, dr.ref_s);
     if (in_plan && dr.plan->ref != dr.ref) {
         // A new reference line (a lane change completed, or the path was rebuilt): converting
         // accelerations through two lines' curvature amplifies the kinks of map centre lines,
@@ -36,16 +36,24 @@ void View::build(const World& w, const Agent& a, double t0, double t_start) {
     // hold it there; the plan starts from that, not from a deceleration that would reverse it.
     if (self.s_d >= 0 && self.s_d < 0.1 && self.s_dd < -5.0 * self.s_d) self.s_dd = -5.0 * self.s_d;
     seen.clear();
+    const double h = ref.heading(self.s), hc = std::cos(h), hs = std::sin(h);
     const Snap& me = w.snapshot[static_cast<size_t>(a.index)];
-    for (size_t j = 0; j < w.snapshot.size(); ++j) {
-        if (static_cast<int>(j) == a.index) continue;
+    // Neighbours from the grid (a hair beyond the range: the exact test is below), ascending.
+    thread_local std::vector<int> near;
+    w.grid.query(me.x, me.y, w.scenario.sensor_range * (1 + 1e-9) + 1e-6, near);
+    for (const int jj : near) {
+        const auto j = static_cast<size_t>(jj);
+        if (jj == a.index) continue;
         const Snap& o = w.snapshot[j];
         if (!o.active) continue;
         const double dist = std::hypot(o.x - me.x, o.y - me.y);
         if (dist > w.scenario.sensor_range) continue;
         Seen s;
         s.index = static_cast<int>(j);
-        s.f = ref.to_frenet({o.x, o.vx, 0, o.y, o.vy, 0});
+        // Hinted by the displacement along the line's heading at the driver (a global search
+        // where that misses: a hint only speeds the search up).
+        const double along = (o.x - c.x) * hc + (o.y - c.y) * hs;
+        s.f = ref.to_frenet({o.x, o.vx, 0, o.y, o.vy, 0}, std::max(0.0, self.s + along));
         // Constant velocity in Frenet up to the plan start.
         const double lat = t_start - t0;
         s.f.s += s.f.s_d * lat;

@@ -194,7 +194,7 @@ std::string World::place_agent(Agent& a) {
         a.driver = std::make_unique<Driver>();
         Driver& d = *a.driver;
         d.tree = std::make_unique<bt::BehaviorTree>(&program.instances.at(static_cast<size_t>(a.v->tree)));
-        d.ref = build_path(net, a.route, d, lane, f.s);
+        d.ref = build_path(net, a.route, d, lane, f.s, paths);
         if (!d.ref) return vwhere + ": cannot build a reference line from lane '" + net.lane(lane).name + "'";
         // Initial plan: keep the start speed until the first plan takes over.
         const road::FrenetState f0 = d.ref->to_frenet({a.x, a.vx, 0, a.y, a.vy, 0}, d.path_start.front() + f.s);

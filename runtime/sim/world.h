@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <mutex>
 #include <memory>
 #include <optional>
 #include <string>
@@ -20,6 +21,7 @@
 #include "runtime/planner/planner.h"
 #include "runtime/road/road_network.h"
 #include "runtime/road/routing.h"
+#include "runtime/sim/grid.h"
 #include "runtime/sim/simulation.h"
 
 namespace sdv::sim {
@@ -148,6 +150,20 @@ struct World {
     road::RoadNetwork net;
     std::vector<Agent> agents;
     std::vector<Snap> snapshot;
+    Grid grid;  // the snapshot's agents by position (cells of the sensor range)
+    // Reference lines by the lanes they run along (with the lane starts on them): drivers on the
+    // same lanes share one line (memory per vehicle does not grow with lane length). Filled by
+    // the planning threads under its mutex; a line depends only on its lanes, so who builds it
+    // first changes nothing.
+    struct PathCache {
+        struct Entry {
+            std::shared_ptr<const road::ReferenceLine> line;
+            std::vector<double> starts;
+        };
+        std::mutex mutex;
+        std::map<std::vector<LaneId>, Entry> lines;
+    };
+    mutable PathCache paths;
     double dt = 1.0 / 30;
     double latency = 1.0 / 3;
     uint64_t seed = 0;
