@@ -18,17 +18,22 @@
 
 namespace {
 
+// Up to 3,000 vehicles form one platoon in lane 1 (lane 2 free); more fill `loaded` lanes side by
+// side (at most 3,000 each: a straight is at most 100 km) with one free lane on the left.
 std::string platoon(int n, bool obstacle) {
+    const int loaded = n <= 3000 ? 1 : (n + 2999) / 3000;
+    const int per_lane = (n + loaded - 1) / loaded;
     std::string s = "import \"std/drive.sdv\"\nimport \"std/lane_change.sdv\"\n";
-    s += "road r {\n lanes 2 forward\n speed_limit 60 km/h\n straight " + std::to_string(1600 + 25 * n) + " m\n}\n";
+    s += "road r {\n lanes " + std::to_string(loaded + 1) + " forward\n speed_limit 60 km/h\n straight " +
+         std::to_string(1600 + 25 * per_lane) + " m\n}\n";
     s += "tree passer() {\n fallback {\n  sequence {\n   condition lane_occupied(lane = current, distance = 40 m)\n"
          "   condition vehicle_stopped(vehicle = front)\n   subtree std.lane_change(lane = left, gap = 15 m)\n  }\n"
          "  subtree std.drive(speed = 12 m/s)\n }\n}\n";
     s += "scenario platoon {\n road r\n timeout 120 s\n";
-    if (obstacle) s += " object block { start lane 1 at " + std::to_string(25 * n + 300) + " m }\n";
+    if (obstacle) s += " object block { start lane 1 at " + std::to_string(25 * per_lane + 300) + " m }\n";
     for (int i = 0; i < n; ++i) {
-        s += " vehicle v" + std::to_string(i) + ": sdv { start lane 1 at " + std::to_string(10 + 25 * i) +
-             " m speed 12 m/s tree passer() }\n";
+        s += " vehicle v" + std::to_string(i) + ": sdv { start lane " + std::to_string(1 + i % loaded) + " at " +
+             std::to_string(10 + 25 * (i / loaded)) + " m speed 12 m/s tree passer() }\n";
     }
     s += " expect no_collision()\n}\n";
     return s;

@@ -23,7 +23,10 @@ public:
         }
         const planner::FrenetState f = d.plan->traj.at(t - d.plan->start);
         place(a, d.plan->ref->to_cartesian({f.s, f.s_d, f.s_dd, f.d, f.d_d, f.d_dd}), d.plan->ref->heading(f.s));
-        const auto probe = d.ref->project({a.x, a.y}, d.ref_s);
+        // In the plan's own frame the vehicle stands at (s, d) of its plan; in another (the
+        // path was rebuilt since) it is projected.
+        const auto probe = d.plan->ref == d.ref ? road::FrenetState{f.s, f.s_d, f.s_dd, f.d, f.d_d, f.d_dd}
+                                                : d.ref->project({a.x, a.y}, d.ref_s);
         d.ref_s = probe.s;
         for (size_t i = 0; i < d.path.size(); ++i) {
             if (probe.s + 1e-9 >= d.path_start[i]) {

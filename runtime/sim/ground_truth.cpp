@@ -38,10 +38,7 @@ double lateral_clearance(const Frame& a, const Frame& b, Vec2 h, double reach) {
     return std::max(0.0, std::fabs(road::dot(d, n)) - a.half_extent(n) - b.half_extent(n));
 }
 
-// What one tick measured of a pair (INFINITY: not measured at this tick).
-struct PairSample {
-    double clearance = INFINITY, gap = INFINITY, lateral = INFINITY, ttc = INFINITY, headway = INFINITY;
-};
+using PairSample = GroundTruth::Sample;
 
 void fold(PairMetrics& m, const PairSample& s) {
     m.min_clearance = std::min(m.min_clearance, s.clearance);
@@ -134,7 +131,7 @@ GroundTruth::OnLane GroundTruth::on_lane(const World& w, const Agent& a) const {
     return o;
 }
 
-void GroundTruth::observe(World& w, double t, int tick) {
+void GroundTruth::observe(World& w, double t, int tick, Pool* pool) {
     if (!started_) start(w);
     now_.clear();
     for (auto& m : out_.windows) {
@@ -143,28 +140,32 @@ void GroundTruth::observe(World& w, double t, int tick) {
     for (size_t i = 0; i < w.agents.size(); ++i) {
         if (w.agents[i].active) lanes_[i] = on_lane(w, w.agents[i]);
     }
-    measure_pairs(w, t, tick);
+    measure_pairs(w, t, tick, pool);
     measure_vehicles(w, t, tick);
 }
 
-void GroundTruth::measure_pairs(World& w, double t, int tick) {
+void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
     auto& agents = w.agents;
     const size_t n = agents.size();
-    thread_local std::vector<Box> boxes;
-    thread_local std::vector<Frame> frames;
-    thread_local std::vector<int> near;
-    boxes.resize(n);
-    frames.resize(n);
+    // Plain locals: the workers of `pool` read them (a thread_local would be theirs, empty).
+    std::vector<Box> boxes(n);
+    std::vector<Frame> frames(n);
+    std::vector<double> half_diagonal(n);
     for (size_t i = 0; i < n; ++i) {
         const Agent& a = agents[i];
         boxes[i] = {{a.x, a.y}, a.yaw, a.v->length, a.v->width};
         frames[i] = {{a.x, a.y}, {std::cos(a.yaw), std::sin(a.yaw)}, a.v->length, a.v->width};
+        half_diagonal[i] = 0.5 * std::hypot(a.v->length, a.v->width);
     }
     const double range = std::max(w.scenario.sensor_range, kPairRange);
-    for (size_t i = 0; i < n; ++i) {
-        if (!agents[i].active) continue;
-        // The neighbours j > i within range (the snapshot's grid: the positions of this tick),
-        // and the partners an expectation names.
+    // 1. Per vehicle i (in parallel, reading only): the samples of its pairs with j > i within
+    // range or named by an expectation.
+    rows_.resize(n);
+    auto measure_row = [&](size_t i) {
+        auto& row = rows_[i];
+        row.clear();
+        if (!agents[i].active) return;
+        thread_local std::vector<int> near;
         w.grid.query(agents[i].x, agents[i].y, range, near);
         near.erase(near.begin(), std::upper_bound(near.begin(), near.end(), static_cast<int>(i)));
         const auto& named = named_[i];
@@ -176,24 +177,23 @@ void GroundTruth::measure_pairs(World& w, double t, int tick) {
         for (const int jj : near) {
             const auto j = static_cast<size_t>(jj);
             if (!agents[j].active) continue;
-            const uint32_t pi = pair_index(static_cast<int>(i), jj);
-            const bool was_touching = touching_tick_[pi] == tick - 1;
+            const auto found = index_.find(static_cast<uint64_t>(i) * n_ + j);
+            const bool known = found != index_.end();
+            const bool was_touching = known && touching_tick_[found->second] == tick - 1;
             // The exact box distance only when it could lower a minimum (of the run or of a
             // window holding this tick): a lower bound from the centres and the half
             // diagonals first.
-            double need = out_.pairs[pi].min_clearance;
-            for (const WindowMetrics* m : now_) need = std::max(need, m->pairs[pi].min_clearance);
+            double need = known ? out_.pairs[found->second].min_clearance : INFINITY;
+            if (known) {
+                for (const WindowMetrics* m : now_) need = std::max(need, m->pairs[found->second].min_clearance);
+            }
             PairSample s;
-            const double centre = road::distance(boxes[i].centre, boxes[j].centre);
-            const double reach = 0.5 * (std::hypot(boxes[i].length, boxes[i].width) + std::hypot(boxes[j].length, boxes[j].width));
+            const double dx = boxes[j].centre.x - boxes[i].centre.x, dy = boxes[j].centre.y - boxes[i].centre.y;
+            const double centre = std::sqrt(dx * dx + dy * dy);
+            const double reach = half_diagonal[i] + half_diagonal[j];
             const bool close = centre - reach < need || was_touching || centre <= reach;
             if (close) s.clearance = gap(boxes[i], boxes[j]);
             const bool hit = close && s.clearance <= 0;
-            if (hit && !was_touching) {
-                const double rel = std::hypot(agents[i].vx - agents[j].vx, agents[i].vy - agents[j].vy);
-                out_.events.push_back({t, "collision", {static_cast<int>(i), jj}, rel, impact_zone(boxes[i], boxes[j])});
-            }
-            if (hit) touching_tick_[pi] = tick;
             s.lateral = std::min(lateral_clearance(frames[i], frames[j], frames[i].heading, reach),
                                  lateral_clearance(frames[i], frames[j], frames[j].heading, reach));
             // Along the lane, while both centres are in the same lane or the one ahead is in
@@ -223,8 +223,27 @@ void GroundTruth::measure_pairs(World& w, double t, int tick) {
                 const double closing = behind.speed - ahead.speed;
                 if (closing > kClosing) s.ttc = s.gap / closing;
             }
-            fold(out_.pairs[pi], s);
-            for (WindowMetrics* m : now_) fold(m->pairs[pi], s);
+            row.push_back({jj, s, hit});
+        }
+    };
+    if (pool != nullptr) {
+        pool->run(n, measure_row);
+    } else {
+        for (size_t i = 0; i < n; ++i) measure_row(i);
+    }
+    // 2. In vehicle order: new pairs, collision events, the folds.
+    for (size_t i = 0; i < n; ++i) {
+        for (const auto& m : rows_[i]) {
+            const uint32_t pi = pair_index(static_cast<int>(i), m.j);
+            const bool was_touching = touching_tick_[pi] == tick - 1;
+            const auto j = static_cast<size_t>(m.j);
+            if (m.hit && !was_touching) {
+                const double rel = std::hypot(agents[i].vx - agents[j].vx, agents[i].vy - agents[j].vy);
+                out_.events.push_back({t, "collision", {static_cast<int>(i), m.j}, rel, impact_zone(boxes[i], boxes[j])});
+            }
+            if (m.hit) touching_tick_[pi] = tick;
+            fold(out_.pairs[pi], m.s);
+            for (WindowMetrics* win : now_) fold(win->pairs[pi], m.s);
         }
     }
 }

@@ -7,10 +7,12 @@
 // pair never measured has no entry (RunResult::pairs holds the measured ones, by (a, b)).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
 
+#include "runtime/sim/pool.h"
 #include "runtime/sim/simulation.h"
 #include "runtime/sim/world.h"
 
@@ -18,10 +20,21 @@ namespace sdv::sim {
 
 class GroundTruth {
 public:
+    // What one tick measured of a pair (INFINITY: not measured at this tick), and of which.
+    struct Sample {
+        double clearance = INFINITY, gap = INFINITY, lateral = INFINITY, ttc = INFINITY, headway = INFINITY;
+    };
+    struct Measured {
+        int j = 0;
+        Sample s;
+        bool hit = false;
+    };
+
     // Writes events and metrics into `out` (pairs, vehicles and windows sized here and at the
     // first observation).
     GroundTruth(size_t agents, RunResult& out);
-    void observe(World& w, double t, int tick);
+    // `pool` measures the pairs of each vehicle in parallel (folded in vehicle order after).
+    void observe(World& w, double t, int tick, Pool* pool = nullptr);
     // Puts the pairs in (a, b) order (in the run and in every window); call once, at the end.
     void finish();
     // A vehicle whose goal ends the run reached it.
@@ -35,7 +48,7 @@ private:
         double speed = 0;  // along the lane's direction
     };
     void start(const World& w);
-    void measure_pairs(World& w, double t, int tick);
+    void measure_pairs(World& w, double t, int tick, Pool* pool);
     // The pair's index in out_.pairs (and every window's pairs), created on first use (i < j).
     uint32_t pair_index(int i, int j);
     void measure_vehicles(World& w, double t, int tick);
@@ -46,6 +59,7 @@ private:
     std::unordered_map<uint64_t, uint32_t> index_;  // i·n + j → pair index
     std::vector<int> touching_tick_;                // per pair: the last tick it was in contact
     std::vector<std::vector<int>> named_;           // per vehicle i: the j > i an expectation names
+    std::vector<std::vector<Measured>> rows_;       // per vehicle i: this tick's pairs (i, j > i)
     std::vector<OnLane> lanes_;
     std::vector<WindowMetrics*> now_;  // the windows holding this tick
     bool started_ = false;

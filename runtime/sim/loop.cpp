@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "runtime/sim/agents.h"
+#include "runtime/sim/pool.h"
 #include "runtime/sim/expectations.h"
 #include "runtime/sim/ground_truth.h"
 #include "runtime/sim/planning.h"
@@ -45,22 +46,6 @@ void take_snapshot(World& w, double t) {
     w.grid.build(xs, ys, on, w.scenario.sensor_range);
 }
 
-// The planning cycles of `due`, on up to `threads` threads; each writes only its own agent.
-void plan_due(const World& w, const std::vector<Agent*>& due, double t, int threads) {
-    if (threads > 1 && due.size() > 1) {
-        std::vector<std::thread> pool;
-        const size_t k = std::min<size_t>(static_cast<size_t>(threads), due.size());
-        for (size_t i = 0; i < k; ++i) {
-            pool.emplace_back([&, i] {
-                for (size_t d = i; d < due.size(); d += k) plan_cycle(w, *due[d], t);
-            });
-        }
-        for (auto& th : pool) th.join();
-    } else {
-        for (Agent* a : due) plan_cycle(w, *a, t);
-    }
-}
-
 RunResult run(World& w, RunObserver* observer) {
     RunResult out;
     const ir::Scenario& sc = w.scenario;
@@ -71,19 +56,21 @@ RunResult run(World& w, RunObserver* observer) {
     GroundTruth truth(w.agents.size(), out);
     ProgressMonitor progress(w.agents.size());
     const int threads = std::max(1, w.options.threads);
+    Pool pool(threads);
     if (observer) observer->start(w);
     int last_tick = 0;
     std::vector<Agent*> due;
     for (int tick = 0; tick <= total_ticks; ++tick) {
         const auto tick0 = std::chrono::steady_clock::now();
         const double t = tick * w.dt;
-        // 1. Advance every agent to time t.
-        for (Agent& a : w.agents) {
-            if (!a.active) continue;
+        // 1. Advance every agent to time t (each writes only its own agent: in parallel).
+        pool.run(w.agents.size(), [&](size_t i) {
+            Agent& a = w.agents[i];
+            if (!a.active) return;
             if (a.crashed) {
                 // A collision ends a vehicle's motion: it stands where it hit (SPEC §3.10).
                 a.vx = a.vy = a.ax = a.ay = a.speed = a.accel = 0;
-                continue;
+                return;
             }
             a.model->advance(w, a, t, tick);
             if (std::fabs(a.speed) < 0.1) {
@@ -91,7 +78,9 @@ RunResult run(World& w, RunObserver* observer) {
             } else {
                 a.stopped_since = -1;
             }
-            if (a.past_road_end) {
+        });
+        for (Agent& a : w.agents) {
+            if (a.active && !a.crashed && a.past_road_end) {
                 // Off the end of the road network: the agent leaves the run here.
                 a.active = false;
                 out.events.push_back({t, "left_road", {a.index}, 0, ""});
@@ -100,7 +89,7 @@ RunResult run(World& w, RunObserver* observer) {
         // 2. Snapshot; 3. ground truth; 4. report.
         take_snapshot(w, t);
         const size_t events_before = out.events.size();
-        truth.observe(w, t, tick);
+        truth.observe(w, t, tick, &pool);
         for (size_t e = events_before; e < out.events.size(); ++e) {
             if (out.events[e].kind != "collision") continue;
             for (int v : out.events[e].vehicles) {
@@ -117,7 +106,7 @@ RunResult run(World& w, RunObserver* observer) {
         for (Agent& a : w.agents) {
             if (a.driver && a.active && !a.crashed && (tick + a.index) % period == 0) due.push_back(&a);
         }
-        plan_due(w, due, t, threads);
+        pool.run(due.size(), [&](size_t i) { plan_cycle(w, *due[i], t); });
         for (Agent* a : due) {
             const Driver& d = *a->driver;
             VehicleMetrics& vm = out.vehicles[static_cast<size_t>(a->index)];

@@ -46,7 +46,7 @@ void View::build(const World& w, const Agent& a, double t0, double t_start) {
         if (jj == a.index) continue;
         const Snap& o = w.snapshot[j];
         if (!o.active) continue;
-        const double dist = std::hypot(o.x - me.x, o.y - me.y);
+        const double dist = std::sqrt((o.x - me.x) * (o.x - me.x) + (o.y - me.y) * (o.y - me.y));
         if (dist > w.scenario.sensor_range) continue;
         Seen s;
         s.index = static_cast<int>(j);
