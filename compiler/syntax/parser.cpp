@@ -765,10 +765,26 @@ std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& s
         SdvParser parser(&stream);
         parser.removeErrorListeners();
         ErrorListener listener(file, offs, diags);
-        parser.addErrorListener(&listener);
         SdvParser::FileContext* tree = nullptr;
+        // Two stages, as ANTLR recommends: SLL prediction bailing out at the first error (fast,
+        // and exact for every input it accepts), then full LL with error reporting and
+        // recovery only for a file SLL rejects.
+        parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(antlr4::atn::PredictionMode::SLL);
+        parser.setErrorHandler(std::make_shared<antlr4::BailErrorStrategy>());
         try {
             tree = parser.file();
+        } catch (const antlr4::ParseCancellationException&) {
+            tree = nullptr;
+        }
+        if (tree == nullptr) {
+            stream.seek(0);
+            parser.reset();
+            parser.setErrorHandler(std::make_shared<antlr4::DefaultErrorStrategy>());
+            parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(antlr4::atn::PredictionMode::LL);
+        }
+        parser.addErrorListener(&listener);
+        try {
+            if (tree == nullptr) tree = parser.file();
         } catch (const CancelParse&) {
             diags.error("E0003", {}, "too many syntax errors in " + std::string(sm.path(file)) +
                                          "; stopping");

@@ -197,7 +197,7 @@ ReferenceLine::Foot ReferenceLine::nearest_global(Vec2 p) const {
     return best;
 }
 
-FrenetState ReferenceLine::project(Vec2 p, double hint) const {
+FrenetState ReferenceLine::project(Vec2 p, double hint, double reach) const {
     // 1. The nearest point of the sampled polyline: near the hint when the hint's window holds a
     //    proper local minimum close to the line (continuity where a route comes back near
     //    itself), else over the whole line.
@@ -206,14 +206,13 @@ FrenetState ReferenceLine::project(Vec2 p, double hint) const {
     bool found = false;
     if (hint >= 0 && std::isfinite(hint)) {
         constexpr size_t kWindow = 48;       // samples each side: 12 m at 0.25 m spacing
-        constexpr double kReach2 = 8.0 * 8;  // m²: beyond this lateral distance, search globally
         const size_t centre = segment(hint);
         const size_t lo = centre > kWindow ? centre - kWindow : 0;
         const size_t hi = std::min(segments, centre + kWindow + 1);
         foot = nearest_in(p, lo, hi);
         const bool at_low_edge = foot.segment == lo && foot.t == 0.0 && lo > 0;
         const bool at_high_edge = foot.segment + 1 == hi && foot.t == 1.0 && hi < segments;
-        found = !at_low_edge && !at_high_edge && foot.d2 <= kReach2;
+        found = !at_low_edge && !at_high_edge && foot.d2 <= reach * reach;  // else globally
     }
     if (!found) foot = nearest_global(p);
     // 2. Solve g(s) = (p − P(s))·T(s) = 0 near that point, on the same interpolation that
@@ -273,8 +272,8 @@ FrenetState ReferenceLine::project(Vec2 p, double hint) const {
     return f;
 }
 
-FrenetState ReferenceLine::to_frenet(const CartesianState& c, double hint) const {
-    FrenetState f = project({c.x, c.y}, hint);
+FrenetState ReferenceLine::to_frenet(const CartesianState& c, double hint, double reach) const {
+    FrenetState f = project({c.x, c.y}, hint, reach);
     const Interp r = at(f.s);
     const Vec2 T{std::cos(r.theta), std::sin(r.theta)}, N{-T.y, T.x};
     const double k = r.kappa, one = 1 - k * f.d;

@@ -44,11 +44,11 @@ public:
 
     // Position only: the s whose normal passes through p, nearest to p. `hint`: an s near the
     // answer (continuity along routes that come back near themselves): the answer near the hint
-    // when p is within 8 m of the line there and its nearest point lies inside a ±12 m window
-    // around the hint; otherwise (and for a negative hint) the nearest point over the whole line.
-    // Only points beyond the ends extrapolate, along the end tangents (s < 0 or s > length).
-    FrenetState project(Vec2 p, double hint = -1) const;
-    FrenetState to_frenet(const CartesianState& c, double hint = -1) const;
+    // when p is within `reach` (8 m) of the line there and its nearest point lies inside a ±12 m
+    // window around the hint; otherwise (and for a negative hint) the nearest point over the
+    // whole line. Only points beyond the ends extrapolate, along the end tangents.
+    FrenetState project(Vec2 p, double hint = -1, double reach = 8.0) const;
+    FrenetState to_frenet(const CartesianState& c, double hint = -1, double reach = 8.0) const;
     CartesianState to_cartesian(const FrenetState& f) const;
 
 private:

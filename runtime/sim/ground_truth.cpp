@@ -227,7 +227,7 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
         }
     };
     if (pool != nullptr) {
-        pool->run(n, measure_row);
+        pool->run(n, measure_row, 256);
     } else {
         for (size_t i = 0; i < n; ++i) measure_row(i);
     }

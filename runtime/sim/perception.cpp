@@ -50,10 +50,10 @@ void View::build(const World& w, const Agent& a, double t0, double t_start) {
         if (dist > w.scenario.sensor_range) continue;
         Seen s;
         s.index = static_cast<int>(j);
-        // Hinted by the displacement along the line's heading at the driver (a global search
-        // where that misses: a hint only speeds the search up).
+        // Hinted by the displacement along the line's heading at the driver, accepted within
+        // 25 m of the line (several lanes over; a global search where that misses).
         const double along = (o.x - c.x) * hc + (o.y - c.y) * hs;
-        s.f = ref.to_frenet({o.x, o.vx, 0, o.y, o.vy, 0}, std::max(0.0, self.s + along));
+        s.f = ref.to_frenet({o.x, o.vx, 0, o.y, o.vy, 0}, std::max(0.0, self.s + along), 25.0);
         // Constant velocity in Frenet up to the plan start.
         const double lat = t_start - t0;
         s.f.s += s.f.s_d * lat;

@@ -39,9 +39,8 @@ void Pool::work(size_t part) {
     }
 }
 
-void Pool::run(size_t n, const std::function<void(size_t)>& fn) {
-    // Small batches are not worth waking anyone.
-    if (workers_.empty() || n < 2) {
+void Pool::run(size_t n, const std::function<void(size_t)>& fn, size_t grain) {
+    if (workers_.empty() || n < std::max<size_t>(2, grain)) {
         for (size_t i = 0; i < n; ++i) fn(i);
         return;
     }

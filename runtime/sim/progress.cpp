@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "runtime/catalog/catalog.h"
 
@@ -10,6 +11,7 @@ namespace {
 
 constexpr double kCrawl = 0.5;       // m/s
 constexpr double kQueueReach = 15.0;  // m between centres: someone slow this close ahead
+constexpr double kLongestVehicle = 60.0;  // m: half of it bounds how far a vehicle's centre is from its rear
 
 bool waiting(const World& w, const Agent& a) {
     if (a.crashed) return true;
@@ -28,7 +30,11 @@ bool waiting(const World& w, const Agent& a) {
     }
     // A queue: someone standing or crawling just ahead, in the way along its heading.
     const double c = std::cos(a.yaw), s = std::sin(a.yaw);
-    for (const Agent& o : w.agents) {
+    // Candidates from the snapshot's grid (taken this tick, before this check).
+    thread_local std::vector<int> near;
+    w.grid.query(a.x, a.y, kQueueReach + 0.5 * a.v->length + kLongestVehicle, near);
+    for (const int k : near) {
+        const Agent& o = w.agents[static_cast<size_t>(k)];
         if (&o == &a || !o.active || std::fabs(o.speed) >= kCrawl) continue;
         const double dx = o.x - a.x, dy = o.y - a.y;
         const double lon = dx * c + dy * s, lat = std::fabs(-dx * s + dy * c);
