@@ -87,7 +87,7 @@ int main(int argc, char** argv) {
             getrusage(RUSAGE_SELF, &ru);
             const double wall = r.timing.wall_s;
             const double updates = static_cast<double>(r.ticks + 1) * (n + (obstacle ? 1 : 0));
-            std::printf("| %d | %s | %d | %.0f× | %.3g | %.3g | %.3g | %.0f / %.0f | %.0f / %.0f | %.4f | %.4f | %.0f | %d |\n", n,
+            std::printf("| %d | %s | %d | %.3g× | %.3g | %.3g | %.3g | %.0f / %.0f | %.0f / %.0f | %.4f | %.4f | %.0f | %d |\n", n,
                         obstacle ? "yes" : "no", threads, r.duration / wall, updates / wall,
                         static_cast<double>(r.timing.plan_us.size()) / wall, static_cast<double>(r.timing.candidates) / wall,
                         pct(r.timing.tick_us, 0.5), pct(r.timing.tick_us, 0.99), pct(r.timing.plan_us, 0.5),

@@ -33,11 +33,13 @@ bool overlap(const Box& a, const Box& b) {
 
 namespace {
 
-double point_segment(Vec2 p, Vec2 a, Vec2 b) {
+// Squared distance from p to the segment [a, b] (one square root for the whole box pair).
+double point_segment2(Vec2 p, Vec2 a, Vec2 b) {
     const Vec2 ab = b - a;
     const double len2 = road::dot(ab, ab);
     const double t = len2 > 0 ? std::clamp(road::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-    return road::distance(p, a + t * ab);
+    const Vec2 d = p - (a + t * ab);
+    return road::dot(d, d);
 }
 
 }  // namespace
@@ -48,11 +50,11 @@ double gap(const Box& a, const Box& b) {
     double best = INFINITY;
     for (int i = 0; i < 4; ++i) {
         for (int j = 0; j < 4; ++j) {
-            best = std::min(best, point_segment(ca[static_cast<size_t>(i)], cb[static_cast<size_t>(j)], cb[static_cast<size_t>((j + 1) % 4)]));
-            best = std::min(best, point_segment(cb[static_cast<size_t>(i)], ca[static_cast<size_t>(j)], ca[static_cast<size_t>((j + 1) % 4)]));
+            best = std::min(best, point_segment2(ca[static_cast<size_t>(i)], cb[static_cast<size_t>(j)], cb[static_cast<size_t>((j + 1) % 4)]));
+            best = std::min(best, point_segment2(cb[static_cast<size_t>(i)], ca[static_cast<size_t>(j)], ca[static_cast<size_t>((j + 1) % 4)]));
         }
     }
-    return best;
+    return std::sqrt(best);
 }
 
 const char* impact_zone(const Box& a, const Box& b) {
