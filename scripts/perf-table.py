@@ -90,11 +90,14 @@ out += ["", f"Targets (SPEC §9): median cycle ≤ 50 µs with 10 vehicles: met 
         f"({mb_per_vehicle(big[(1000, 'no')], 1000):.3f} MB at N = 1,000, {mb_per_vehicle(big[(10000, 'no')], 10000):.3f} MB at N = 10,000); "
         f"vehicle-updates/s at N = 1,000 within 30 % of N = 20: {'met' if flat >= 0.7 else '**not met**'} ({flat:.0%} of it).",
         "Neighbour queries go through a grid over the snapshot, pairs are measured within range, reference",
-        "lines are shared by lane (docs/design-notes.md, \"Scale\"). Where the time goes at N = 1,000 (perf, one",
-        "thread): reference-line evaluation and projection (about 35 %: placing every vehicle from its Frenet",
-        "plan each tick, perceiving its neighbours), the box distances of close pairs (8 %), the grid (7 %), the",
-        "planner itself (7 %); what stays serial per tick is the snapshot, the grid build and folding the pair",
-        "samples, which is why two threads gain less than twofold.", ""]
+        "lines are shared by lane (docs/design-notes.md, \"Scale\"). At N = 10,000 the platoon fills four lanes",
+        "side by side (a road is at most 100 km), so every vehicle has about four times the neighbours it has at",
+        "N = 1,000: more obstacles per plan, more pairs per tick. Where the time goes there (perf, one thread):",
+        "reference-line evaluation and projection about 30 % (placing every vehicle from its Frenet plan each",
+        "tick, perceiving its neighbours), pair measurement 15 %, the planner 11 %, box distances 5 %, the grid",
+        "5 %. Serial per tick: the snapshot, the grid build and folding the pair samples in vehicle order, which",
+        "is why two threads gain less than twofold. Next: the pair fold and the grid build in parallel, and",
+        "cheaper placement (the reference line's segment search per evaluation).", ""]
 # Sections below the marker are written by other benchmarks (bench/view_load.sh) and kept.
 MARKER = "<!-- other benchmarks -->"
 try:

@@ -144,8 +144,8 @@ bt::Status Leaves::lane_move(const ir::Node& n, catalog::ManeuverKind kind) {
         if (std::min(std::fabs(ds), std::fabs(ds + 4.0 * dv)) > reach) continue;
         const double mine = std::fabs(view.self.d - target_d), theirs = std::fabs(s.f.d - target_d);
         const bool later = o.lane_move_since < d.lane_move_since - 1e-9;
-        const bool same = std::fabs(o.lane_move_since - d.lane_move_since) <= 1e-9;
-        if (later || (same && (mine > theirs + 0.05 || (std::fabs(mine - theirs) <= 0.05 && s.index < a.index)))) {
+        const bool together = std::fabs(o.lane_move_since - d.lane_move_since) <= 1e-9;
+        if (later || (together && (mine > theirs + 0.05 || (std::fabs(mine - theirs) <= 0.05 && s.index < a.index)))) {
             d.lane_move_target = kNoLane;
             return bt::Status::failure;
         }

@@ -98,7 +98,7 @@ void plan_cycle(const World& w, Agent& a, double t0) {
     const auto& obstacles = in.request.obstacles;
     const int tv = in.request.target_vehicle;
     const double target_v = tv >= 0 ? obstacles[static_cast<size_t>(tv)].state.s_d : 0;
-    const bool commit = sel >= 0 && sel == cut.node && cut.in_lane && tv >= 0 && std::fabs(target_v - cut.target_v) <= 1.0 &&
+    const bool commit = sel >= 0 && sel == cut.node && cut.in_lane && !d.pending && tv >= 0 && std::fabs(target_v - cut.target_v) <= 1.0 &&
                         held != nullptr && held->maneuver == sel && held->ref == d.ref && t_start < cut.due - 1e-9 &&
                         planner::stays_clear(held->traj, t_start - held->start, cut.due - t_start, in.request);
     planner::PlanResult result;
