@@ -9,23 +9,13 @@
 #include <string>
 #include <vector>
 
-#include "compiler/sema/compile.h"
+#include "tests/unit/io/compile_text.h"
 #include "runtime/sim/simulation.h"
 #include "runtime/sim/world.h"
 
 using namespace sdv;
 
 namespace {
-
-std::optional<ir::Program> compile(const std::string& text) {
-    diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
-    auto c = compiler::compile_source("test.sdv", text, sm, diags);
-    if (!c.program) {
-        for (const auto& d : diags.sorted()) MESSAGE(d.message);
-    }
-    return std::move(c.program);
-}
 
 // Per tick: v2's maneuver and lane, and the bumper gap and relative speed to the ego.
 struct Watch : sim::RunObserver {
@@ -85,7 +75,7 @@ TEST_CASE("cut_in runs until its end state: the asked bumper gap and relative sp
     for (const Case c : {Case{10, -3}, Case{20, 1}, Case{18, 0}, Case{15, -2}}) {
         CAPTURE(c.gap);
         CAPTURE(c.dv);
-        auto program = compile(scenario(c.gap, c.dv));
+        auto program = test::compile_text(scenario(c.gap, c.dv));
         REQUIRE(program);
         Watch watch;
         const auto result = sim::simulate(*program, 0, {}, &watch);

@@ -8,23 +8,13 @@
 #include <string>
 #include <vector>
 
-#include "compiler/sema/compile.h"
+#include "tests/unit/io/compile_text.h"
 #include "runtime/sim/simulation.h"
 #include "runtime/sim/world.h"
 
 using namespace sdv;
 
 namespace {
-
-std::optional<ir::Program> compile(const std::string& text) {
-    diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
-    auto c = compiler::compile_source("test.sdv", text, sm, diags);
-    if (!c.program) {
-        for (const auto& d : diags.sorted()) MESSAGE(d.message);
-    }
-    return std::move(c.program);
-}
 
 struct Lanes : sim::RunObserver {
     std::vector<std::string> final_lane{"", ""};
@@ -93,7 +83,7 @@ TEST_CASE("simultaneous lane changes into one lane: one completes, the other abo
         CAPTURE(c.t_a);
         CAPTURE(c.t_b);
         CAPTURE(c.v_b);
-        auto program = compile(scenario(c.t_a, c.t_b, c.v_a, c.v_b, c.s_b));
+        auto program = test::compile_text(scenario(c.t_a, c.t_b, c.v_a, c.v_b, c.s_b));
         REQUIRE(program);
         Lanes lanes;
         const auto result = sim::simulate(*program, 0, {}, &lanes);

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "compiler/sema/compile.h"
+#include "tests/unit/io/compile_text.h"
 #include "runtime/io/recorder.h"
 #include "runtime/sim/agents.h"
 #include "runtime/sim/world.h"
@@ -18,16 +18,6 @@
 using namespace sdv;
 
 namespace {
-
-std::optional<ir::Program> compile(const std::string& text) {
-    diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
-    auto c = compiler::compile_source("test.sdv", text, sm, diags);
-    if (!c.program) {
-        for (const auto& d : diags.sorted()) MESSAGE(d.message);
-    }
-    return std::move(c.program);
-}
 
 // Records where every agent stands at the first tick.
 struct FirstTick : sim::RunObserver {
@@ -95,7 +85,7 @@ TEST_CASE("a vehicle started at lane L at X m stands on that lane's centre at ar
                     src << " object a { start lane " << lane << " at " << x << " m }\n";
                 }
                 src << " expect timeout()\n}\n";
-                auto p = compile(src.str());
+                auto p = test::compile_text(src.str());
                 INFO(std::string(road.name) << " lane " << lane << " at " << x << " m");
                 REQUIRE(p);
                 FirstTick seen;
@@ -126,7 +116,7 @@ TEST_CASE("driving round a circle and along a long S-bend road, s grows continuo
         src << "import \"std/drive.sdv\"\nroad r {\n " << body << "\n}\nscenario s {\n road r\n timeout 28 s\n"
             << " vehicle a: sdv { start lane 1 at 3 m speed 10 m/s tree std.drive(speed = 10 m/s) }\n"
             << " expect timeout()\n}\n";
-        auto p = compile(src.str());
+        auto p = test::compile_text(src.str());
         INFO(std::string(body));
         REQUIRE(p);
         io::Recorder rec;
@@ -167,7 +157,7 @@ TEST_CASE("round a loop of 21 lanelets of a Lanelet2 ring road, s grows continuo
         << " vehicle a: sdv {\n  start lane \"-7226\" at 1 m\n  speed 15 m/s\n"
         << "  route lane \"-7036\", lane \"-7020\", lane \"-7008\", lane \"-6996\", lane \"-7094\", lane \"-7226\"\n"
         << "  tree std.drive(speed = 15 m/s)\n }\n expect timeout()\n}\n";
-    auto p = compile(src.str());
+    auto p = test::compile_text(src.str());
     REQUIRE(p);
     io::Recorder rec;
     auto r = sim::simulate(*p, 0, {}, &rec);

@@ -8,23 +8,13 @@
 #include <string>
 #include <vector>
 
-#include "compiler/sema/compile.h"
+#include "tests/unit/io/compile_text.h"
 #include "runtime/sim/simulation.h"
 #include "runtime/sim/world.h"
 
 using namespace sdv;
 
 namespace {
-
-std::optional<ir::Program> compile(const std::string& text) {
-    diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
-    auto c = compiler::compile_source("test.sdv", text, sm, diags);
-    if (!c.program) {
-        for (const auto& d : diags.sorted()) MESSAGE(d.message);
-    }
-    return std::move(c.program);
-}
 
 // The first tick at which vehicle 0 runs its `near` branch, and the observed vehicle's distance
 // from its front bumper to the end of its approach lane and its speed then.
@@ -101,7 +91,7 @@ TEST_CASE("time_to_arrival turns true when distance over speed reaches its bound
     for (const Case& c : cases) {
         CAPTURE(c.condition);
         CAPTURE(c.v_self);
-        auto program = compile(scenario(c.control, c.condition, c.v_self, c.v_other));
+        auto program = test::compile_text(scenario(c.control, c.condition, c.v_self, c.v_other));
         REQUIRE(program);
         Watch watch;
         watch.observed = c.observed;
@@ -122,7 +112,7 @@ TEST_CASE("time_to_arrival turns true when distance over speed reaches its bound
 TEST_CASE("a vehicle standing still never arrives: it passes a min bound, never a max bound") {
     for (const char* cond : {"time_to_arrival(vehicle = crosser, min = 4 s)", "time_to_arrival(vehicle = crosser, max = 1000 s)"}) {
         CAPTURE(cond);
-        auto program = compile(scenario("none", cond, 8, 0));
+        auto program = test::compile_text(scenario("none", cond, 8, 0));
         REQUIRE(program);
         Watch watch;
         watch.observed = 1;
@@ -148,7 +138,7 @@ TEST_CASE("latch keeps a condition true once it was: past the junction, time_to_
             REQUIRE(at != std::string::npos);
             text.replace(at, std::string("condition latch condition").size(), "latch condition");
         }
-        auto program = compile(text);
+        auto program = test::compile_text(text);
         REQUIRE(program);
         Last last;
         sim::simulate(*program, 0, {}, &last);
