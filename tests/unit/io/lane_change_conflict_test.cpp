@@ -1,7 +1,8 @@
 // Two drivers changing into the same lane at the same time (issue "drivers that behave like
 // drivers", finding 6): the one farther from the target lane (the later one; on a tie the
 // higher vehicle index) aborts back to its own lane; the other completes; nobody collides,
-// brakes for want of a plan or stalls, whichever starts first and at whatever speeds.
+// brakes for want of a plan or stalls, whichever starts first, at whatever speeds, on straight
+// and curved roads.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -27,14 +28,14 @@ struct Lanes : sim::RunObserver {
     }
 };
 
-std::string scenario(double t_a, double t_b, double v_a, double v_b, double s_b) {
+std::string scenario(const std::string& shape, double t_a, double t_b, double v_a, double v_b, double s_b) {
     auto num = [](double x) { return std::to_string(x); };
     return R"(import "std/drive.sdv"
 road r {
     lanes 3 forward
     lane_width 3.5 m
     speed_limit 110 km/h
-    straight 900 m
+    )" + shape + R"(
 }
 # Once, after `t`, change lanes when the target lane looks free; cruise otherwise.
 tree change_at(t: time = 3 s, side: lane = left, speed: speed = 20 m/s) {
@@ -79,23 +80,27 @@ TEST_CASE("simultaneous lane changes into one lane: one completes, the other abo
         {3.0, 3.2, 20, 21, 46, 0},  // b slightly faster, just behind
         {3.3, 3.0, 22, 20, 54, 1},  // a faster, just behind
     };
-    for (const Case& c : cases) {
-        CAPTURE(c.t_a);
-        CAPTURE(c.t_b);
-        CAPTURE(c.v_b);
-        auto program = test::compile_text(scenario(c.t_a, c.t_b, c.v_a, c.v_b, c.s_b));
-        REQUIRE(program);
-        Lanes lanes;
-        const auto result = sim::simulate(*program, 0, {}, &lanes);
-        REQUIRE(result.error.empty());
-        CHECK(result.passed());  // no collision
-        const auto w = static_cast<size_t>(c.winner), l = 1 - w;
-        // The winner is in the middle lane first; the other was not in it while they were beside.
-        CHECK(std::isfinite(lanes.first_in_middle[w]));
-        CHECK(lanes.first_in_middle[w] < lanes.first_in_middle[l]);
-        for (size_t i = 0; i < 2; ++i) {
-            CHECK(result.vehicles[i].fallback_plans == 0);
-            CHECK(result.vehicles[i].min_speed > 15);
+    // On a straight and on arcs either way (the lanes then differ in length).
+    for (const char* shape : {"straight 900 m", "arc 700 m radius 250 m left", "arc 700 m radius 300 m right"}) {
+        for (const Case& c : cases) {
+            CAPTURE(shape);
+            CAPTURE(c.t_a);
+            CAPTURE(c.t_b);
+            CAPTURE(c.v_b);
+            auto program = test::compile_text(scenario(shape, c.t_a, c.t_b, c.v_a, c.v_b, c.s_b));
+            REQUIRE(program);
+            Lanes lanes;
+            const auto result = sim::simulate(*program, 0, {}, &lanes);
+            REQUIRE(result.error.empty());
+            CHECK(result.passed());  // no collision
+            const auto w = static_cast<size_t>(c.winner), l = 1 - w;
+            // The winner is in the middle lane first; the other was not in it while they were beside.
+            CHECK(std::isfinite(lanes.first_in_middle[w]));
+            CHECK(lanes.first_in_middle[w] < lanes.first_in_middle[l]);
+            for (size_t i = 0; i < 2; ++i) {
+                CHECK(result.vehicles[i].fallback_plans == 0);
+                CHECK(result.vehicles[i].min_speed > 15);
+            }
         }
     }
 }
