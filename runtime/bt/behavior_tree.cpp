@@ -79,20 +79,12 @@ Status BehaviorTree::tick_node(int32_t i, TickContext& ctx, std::vector<Visit>* 
                                             : Status::running;
             break;
         }
-        case ir::NodeKind::once: {
-            if (mem.once_fired) {
-                result = Status::failure;
-                break;
-            }
-            result = count > 0 ? tick_node(n.children[0], ctx, trace) : Status::failure;
-            if (result == Status::success) mem.once_fired = true;
-            break;
-        }
+        case ir::NodeKind::once:
         case ir::NodeKind::latch: {
-            // Once its child succeeded, SUCCESS for the rest of the run (the child is no longer
-            // ticked).
+            // After its child's first SUCCESS the child is no longer ticked: once is FAILURE
+            // from then on, latch SUCCESS.
             if (mem.once_fired) {
-                result = Status::success;
+                result = n.kind == ir::NodeKind::latch ? Status::success : Status::failure;
                 break;
             }
             result = count > 0 ? tick_node(n.children[0], ctx, trace) : Status::failure;

@@ -94,6 +94,7 @@ void GroundTruth::finish() {
 // The pairs the expectations name, then one set of metrics per distinct window of them.
 void GroundTruth::start(const World& w) {
     started_ = true;
+    for (const Agent& a : w.agents) half_diagonal_.push_back(0.5 * std::hypot(a.v->length, a.v->width));
     for (const ir::Expect& e : w.scenario.expects) {
         if (e.vehicles.size() != 2 || e.vehicles[0] == e.vehicles[1]) continue;
         const int i = std::min(e.vehicles[0], e.vehicles[1]), j = std::max(e.vehicles[0], e.vehicles[1]);
@@ -150,12 +151,11 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
     // Plain locals: the workers of `pool` read them (a thread_local would be theirs, empty).
     std::vector<Box> boxes(n);
     std::vector<Frame> frames(n);
-    std::vector<double> half_diagonal(n);
+    const std::vector<double>& half_diagonal = half_diagonal_;
     for (size_t i = 0; i < n; ++i) {
         const Agent& a = agents[i];
         boxes[i] = {{a.x, a.y}, a.yaw, a.v->length, a.v->width};
         frames[i] = {{a.x, a.y}, {std::cos(a.yaw), std::sin(a.yaw)}, a.v->length, a.v->width};
-        half_diagonal[i] = 0.5 * std::hypot(a.v->length, a.v->width);
     }
     const double range = std::max(w.scenario.sensor_range, kPairRange);
     // 1. Per vehicle i (in parallel, reading only): the samples of its pairs with j > i within

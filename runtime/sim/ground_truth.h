@@ -60,6 +60,7 @@ private:
     std::vector<int> touching_tick_;                // per pair: the last tick it was in contact
     std::vector<std::vector<int>> named_;           // per vehicle i: the j > i an expectation names
     std::vector<std::vector<Measured>> rows_;       // per vehicle i: this tick's pairs (i, j > i)
+    std::vector<double> half_diagonal_;            // per vehicle: half its footprint's diagonal
     std::vector<OnLane> lanes_;
     std::vector<WindowMetrics*> now_;  // the windows holding this tick
     bool started_ = false;

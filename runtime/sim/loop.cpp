@@ -29,7 +29,7 @@ void take_snapshot(World& w, double t) {
     for (size_t i = 0; i < w.agents.size(); ++i) {
         const Agent& a = w.agents[i];
         w.snapshot[i] = {a.x, a.y, a.yaw, a.vx, a.vy, a.speed, a.accel, a.v->length, a.v->width, a.lane,
-                         a.v->kind == ir::VehicleKind::static_object, a.stopped_since, a.driver ? a.driver->maneuver : -1, a.active, a.lane_s, a.lane_d,
+                         a.v->kind == ir::VehicleKind::static_object, a.stopped_since, a.driver ? a.driver->maneuver : -1, a.active, a.lane_s,
                          a.driver ? a.driver->target_lane : kNoLane, a.driver ? a.driver->lane_move_since : 0,
                          lateral_to_go(a, t)};
     }

@@ -52,7 +52,7 @@ struct Snap {
     double stopped_since = -1;
     int32_t maneuver = -1;
     bool active = true;  // false: gone from the run (left the road network)
-    double lane_s = 0, lane_d = 0;  // on `lane`
+    double lane_s = 0;             // arc length on `lane`
     LaneId target_lane = kNoLane;  // the lane a running lane change / cut-in moves into
     double lane_move_since = 0;    // when that move began
     double lateral_to_go = NAN;    // lateral motion left in its plan in force (NaN: no plan)
