@@ -39,18 +39,6 @@ std::string platoon(int n, bool obstacle) {
     return s;
 }
 
-double pct(std::vector<double> v, double p) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, static_cast<size_t>(p * static_cast<double>(v.size())))];
-}
-
-double share_below(const std::vector<double>& v, double limit) {
-    if (v.empty()) return 1;
-    return static_cast<double>(std::count_if(v.begin(), v.end(), [&](double x) { return x <= limit; })) /
-           static_cast<double>(v.size());
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -89,9 +77,9 @@ int main(int argc, char** argv) {
             const double updates = static_cast<double>(r.ticks + 1) * (n + (obstacle ? 1 : 0));
             std::printf("| %d | %s | %d | %.3g× | %.3g | %.3g | %.3g | %.0f / %.0f | %.0f / %.0f | %.4f | %.4f | %.0f | %d |\n", n,
                         obstacle ? "yes" : "no", threads, r.duration / wall, updates / wall,
-                        static_cast<double>(r.timing.plan_us.size()) / wall, static_cast<double>(r.timing.candidates) / wall,
-                        pct(r.timing.tick_us, 0.5), pct(r.timing.tick_us, 0.99), pct(r.timing.plan_us, 0.5),
-                        pct(r.timing.plan_us, 0.99), share_below(r.timing.tick_us, 33333), share_below(r.timing.plan_us, 333333),
+                        static_cast<double>(r.timing.plan_us.count()) / wall, static_cast<double>(r.timing.candidates) / wall,
+                        r.timing.tick_us.percentile(0.5), r.timing.tick_us.percentile(0.99), r.timing.plan_us.percentile(0.5),
+                        r.timing.plan_us.percentile(0.99), r.timing.tick_us.share_below(33333), r.timing.plan_us.share_below(333333),
                         static_cast<double>(ru.ru_maxrss) / 1024.0, collisions);
             std::fflush(stdout);
         }

@@ -303,26 +303,45 @@ int cmd_run(const RunArgs& args, const Common& c, const WarningFlags& w) {
             std::fflush(stderr);
         };
     }
+    const std::string dir = args.out.empty() ? "out/" + sc.name : args.out;
+    {
+        std::error_code ec;
+        std::filesystem::create_directories(dir, ec);
+        if (ec) {
+            std::cerr << "sdv: error: cannot create '" << dir << "': " << ec.message() << "\n";
+            return kFailure;
+        }
+    }
+    // Trajectories and decisions stream into the output directory as the run goes.
     io::Recorder recorder;
+    if (auto e = recorder.open(dir, args.trace); !e.empty()) {
+        std::cerr << "sdv: error: " << e << "\n";
+        return kFailure;
+    }
     sim::RunResult r = sim::simulate(*program, index, opts, &recorder);
-    const io::Recording rec = recorder.take();
     if (tty) std::fprintf(stderr, "\r\033[K");
     if (!r.error.empty()) {
+        recorder.discard();
         std::cerr << r.error << "\n";
         return kFailure;
     }
+    if (auto e = recorder.commit(); !e.empty()) {
+        std::cerr << "sdv: error: " << e << "\n";
+        return kFailure;
+    }
+    const io::Recording rec = recorder.take();
     io::RunInfo info;
     info.ir_hash = ir::program_hash(*program);
     info.seed = args.seed.value_or(sc.seed);
     info.trace = args.trace;
     info.threads = args.threads;
-    const std::string dir = args.out.empty() ? "out/" + sc.name : args.out;
     if (auto e = io::write_outputs(dir, *program, index, r, rec, info); !e.empty()) {
         std::cerr << "sdv: error: " << e << "\n";
         return kFailure;
     }
     if (args.gss_outputs) {
-        if (auto e = io::write_gss_outputs(dir, *program, index, r, rec.trajectories_csv); !e.empty()) {
+        std::ifstream csv(std::filesystem::path(dir) / "trajectories.csv", std::ios::binary);
+        if (auto e = io::write_gss_outputs(dir, *program, index, r, csv); !e.empty()) {
             std::cerr << "sdv: error: " << e << "\n";
             return kFailure;
         }

@@ -90,7 +90,7 @@ std::string violations_json(const ir::Program& p, int scenario, const sim::RunRe
 }
 
 std::string write_gss_outputs(const std::string& dir, const ir::Program& p, int scenario, const sim::RunResult& r,
-                              const std::string& trajectories_csv) {
+                              std::istream& trajectories_csv) {
     namespace fs = std::filesystem;
     const ir::Scenario& sc = p.scenarios.at(static_cast<size_t>(scenario));
     {
@@ -106,7 +106,7 @@ std::string write_gss_outputs(const std::string& dir, const ir::Program& p, int 
         long tick;
     };
     std::vector<std::vector<Row>> rows(sc.vehicles.size());
-    std::istringstream in(trajectories_csv);
+    std::istream& in = trajectories_csv;
     std::string line;
     std::getline(in, line);  // header
     while (std::getline(in, line)) {

@@ -8,6 +8,7 @@
 // vehicle's position in the scenario, from 1.
 #pragma once
 
+#include <istream>
 #include <string>
 
 #include "runtime/ir/ir.h"
@@ -17,8 +18,8 @@ namespace sdv::io {
 
 std::string violations_json(const ir::Program& p, int scenario, const sim::RunResult& r);
 // Returns an error message, or "" on success.
-// `trajectories_csv` is the run's trajectories.csv (io::Recording).
+// `trajectories_csv` reads the run's trajectories.csv.
 std::string write_gss_outputs(const std::string& dir, const ir::Program& p, int scenario, const sim::RunResult& r,
-                              const std::string& trajectories_csv);
+                              std::istream& trajectories_csv);
 
 }  // namespace sdv::io

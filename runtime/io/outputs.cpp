@@ -51,12 +51,6 @@ std::string measured_text(const sim::ExpectPart& part) {
     return d.label + buf;
 }
 
-double pct(std::vector<double> v, double p) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, static_cast<size_t>(p * static_cast<double>(v.size())))];
-}
-
 }  // namespace
 
 std::string summary_json(const ir::Program& p, int scenario, const sim::RunResult& r, const RunInfo& info) {
@@ -161,13 +155,13 @@ std::string timing_json(const sim::RunResult& r, int threads) {
     j["wall_s"] = r.timing.wall_s;
     j["real_time_factor"] = r.timing.wall_s > 0 ? r.duration / r.timing.wall_s : 0.0;
     j["threads"] = threads;
-    const double plans = static_cast<double>(r.timing.plan_us.size());
+    const double plans = static_cast<double>(r.timing.plan_us.count());
     j["plans_per_s"] = r.timing.wall_s > 0 ? plans / r.timing.wall_s : 0.0;
     j["candidates_per_s"] = r.timing.wall_s > 0 ? static_cast<double>(r.timing.candidates) / r.timing.wall_s : 0.0;
-    j["tick_us"] = {{"p50", pct(r.timing.tick_us, 0.5)}, {"p90", pct(r.timing.tick_us, 0.9)}, {"p99", pct(r.timing.tick_us, 0.99)},
-                    {"max", pct(r.timing.tick_us, 1.0)}};
-    j["plan_us"] = {{"p50", pct(r.timing.plan_us, 0.5)}, {"p90", pct(r.timing.plan_us, 0.9)}, {"p99", pct(r.timing.plan_us, 0.99)},
-                    {"max", pct(r.timing.plan_us, 1.0)}};
+    j["tick_us"] = {{"p50", r.timing.tick_us.percentile(0.5)}, {"p90", r.timing.tick_us.percentile(0.9)}, {"p99", r.timing.tick_us.percentile(0.99)},
+                    {"max", r.timing.tick_us.percentile(1.0)}};
+    j["plan_us"] = {{"p50", r.timing.plan_us.percentile(0.5)}, {"p90", r.timing.plan_us.percentile(0.9)}, {"p99", r.timing.plan_us.percentile(0.99)},
+                    {"max", r.timing.plan_us.percentile(1.0)}};
     return j.dump(2) + "\n";
 }
 
@@ -182,11 +176,14 @@ std::string write_outputs(const std::string& dir, const ir::Program& p, int scen
         o << text;
         return o ? "" : "cannot write '" + (fs::path(dir) / name).string() + "'";
     };
-    if (auto e = write("trajectories.csv", rec.trajectories_csv); !e.empty()) return e;
+    // A streamed recording (Recorder::open) has written its rows already.
+    if (!rec.trajectories_csv.empty()) {
+        if (auto e = write("trajectories.csv", rec.trajectories_csv); !e.empty()) return e;
+    }
     if (auto e = write("summary.json", summary_json(p, scenario, r, info)); !e.empty()) return e;
     if (auto e = write("timing.json", timing_json(r, info.threads)); !e.empty()) return e;
     if (auto e = write("road.json", rec.road_json); !e.empty()) return e;
-    if (info.trace) {
+    if (info.trace && !rec.decisions_jsonl.empty()) {
         if (auto e = write("decisions.jsonl", rec.decisions_jsonl); !e.empty()) return e;
     }
     return "";
@@ -196,8 +193,8 @@ std::string report(const ir::Program& p, int scenario, const sim::RunResult& r) 
     const ir::Scenario& sc = p.scenarios.at(static_cast<size_t>(scenario));
     std::ostringstream o;
     char buf[160];
-    std::snprintf(buf, sizeof buf, "%s: %.1f s simulated in %.3f s (%.0fx real time), %zu plans\n", sc.name.c_str(), r.duration,
-                  r.timing.wall_s, r.timing.wall_s > 0 ? r.duration / r.timing.wall_s : 0.0, r.timing.plan_us.size());
+    std::snprintf(buf, sizeof buf, "%s: %.1f s simulated in %.3f s (%.0fx real time), %lld plans\n", sc.name.c_str(), r.duration,
+                  r.timing.wall_s, r.timing.wall_s > 0 ? r.duration / r.timing.wall_s : 0.0, r.timing.plan_us.count());
     o << buf;
     for (const auto& ev : r.events) {
         if (ev.kind == "timeout") continue;

@@ -1,5 +1,7 @@
 #include "runtime/io/recorder.h"
 
+#include <cstdio>
+
 #include "runtime/catalog/catalog.h"
 #include "runtime/sim/agents.h"
 #include "runtime/sim/world.h"
@@ -8,25 +10,71 @@ namespace sdv::io {
 
 using sim::fmt;
 
+Recorder::Recorder() : csv_(&csv_memory_), decisions_(&decisions_memory_) {}
+
+Recorder::~Recorder() { discard(); }
+
+std::string Recorder::open(const std::string& dir, bool trace) {
+    auto file = [&](const char* name, std::unique_ptr<File>& f) -> std::string {
+        f = std::make_unique<File>();
+        f->path = dir + "/" + name;
+        f->out.open(f->path + ".part", std::ios::binary | std::ios::trunc);
+        return f->out ? "" : "cannot write '" + f->path + ".part'";
+    };
+    if (auto e = file("trajectories.csv", csv_file_); !e.empty()) return e;
+    csv_ = &csv_file_->out;
+    if (trace) {
+        if (auto e = file("decisions.jsonl", decisions_file_); !e.empty()) return e;
+        decisions_ = &decisions_file_->out;
+    } else {
+        std::remove((dir + "/decisions.jsonl").c_str());  // not a stale one from an earlier run
+    }
+    return "";
+}
+
+std::string Recorder::commit() {
+    for (auto* f : {&csv_file_, &decisions_file_}) {
+        if (!*f) continue;
+        (*f)->out.close();
+        if (!(*f)->out) return "cannot write '" + (*f)->path + "'";
+        if (std::rename(((*f)->path + ".part").c_str(), (*f)->path.c_str()) != 0) return "cannot write '" + (*f)->path + "'";
+        f->reset();
+    }
+    csv_ = &csv_memory_;
+    decisions_ = &decisions_memory_;
+    return "";
+}
+
+void Recorder::discard() {
+    for (auto* f : {&csv_file_, &decisions_file_}) {
+        if (!*f) continue;
+        (*f)->out.close();
+        std::remove(((*f)->path + ".part").c_str());
+        f->reset();
+    }
+    csv_ = &csv_memory_;
+    decisions_ = &decisions_memory_;
+}
+
 void Recorder::start(const sim::World& w) {
-    csv_ << "time,tick,vehicle,kind,x,y,yaw,speed,accel,s,d,lane,maneuver\n";
+    *csv_ << "time,tick,vehicle,kind,x,y,yaw,speed,accel,s,d,lane,maneuver\n";
     road_ = road_json(w);
 }
 
 void Recorder::tick(const sim::World& w, int tick, double t) {
     for (const sim::Agent& a : w.agents) {
         if (!a.active) continue;
-        csv_ << fmt(t) << "," << tick << "," << a.v->name << "," << a.model->kind() << "," << fmt(a.x) << "," << fmt(a.y) << ","
+        *csv_ << fmt(t) << "," << tick << "," << a.v->name << "," << a.model->kind() << "," << fmt(a.x) << "," << fmt(a.y) << ","
              << fmt(a.yaw) << "," << fmt(a.speed) << "," << fmt(a.accel) << "," << fmt(a.lane_s) << "," << fmt(a.lane_d) << ","
              << (a.centre_lane != sim::kNoLane ? w.net.lane(a.centre_lane).name : "") << "," << (a.driver ? a.driver->maneuver_name : "") << "\n";
     }
 }
 
 void Recorder::plan(const sim::World& w, const sim::Agent& a) {
-    if (a.driver && a.driver->trace) decisions_ += decision_line(w, a, *a.driver->trace);
+    if (a.driver && a.driver->trace) *decisions_ << decision_line(w, a, *a.driver->trace);
 }
 
-Recording Recorder::take() { return {csv_.str(), decisions_, road_}; }
+Recording Recorder::take() { return {csv_memory_.str(), decisions_memory_.str(), road_}; }
 
 std::string decision_line(const sim::World& w, const sim::Agent& a, const sim::PlanTrace& tr) {
     (void)w;

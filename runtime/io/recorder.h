@@ -1,8 +1,11 @@
 // The run outputs the simulation's observer writes while it runs (SPEC §7): the rows of
 // trajectories.csv, decisions.jsonl (with --trace) and road.json (the road geometry and light
-// programs of the run). The simulation itself writes nothing.
+// programs of the run). The simulation itself writes nothing. Rows go to streams as the run
+// goes (files in the output directory for `sdv run`), so memory does not grow with the run.
 #pragma once
 
+#include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 
@@ -18,15 +21,33 @@ struct Recording {
 
 class Recorder : public sim::RunObserver {
 public:
+    // Records in memory (take() returns it all).
+    Recorder();
+    // Streams trajectories.csv (and decisions.jsonl when `trace`) into `dir`, under temporary
+    // names until commit(). Returns an error message, or "" when the files are open.
+    std::string open(const std::string& dir, bool trace);
+    // Flushes and gives the streamed files their names; an error message or "".
+    std::string commit();
+    // Removes the streamed files (a run that failed leaves no partial outputs).
+    void discard();
+    ~Recorder() override;
+
     void start(const sim::World& world) override;
     void tick(const sim::World& world, int tick, double time) override;
     void plan(const sim::World& world, const sim::Agent& agent) override;
-    // The recording so far (the whole run once simulate returned).
+    // The recording so far (the whole run once simulate returned); a streamed recording holds
+    // only road.json here.
     Recording take();
 
 private:
-    std::ostringstream csv_;
-    std::string decisions_;
+    struct File {
+        std::string path;  // final name; written at path + ".part"
+        std::ofstream out;
+    };
+    std::ostream* csv_ = nullptr;
+    std::ostream* decisions_ = nullptr;
+    std::ostringstream csv_memory_, decisions_memory_;
+    std::unique_ptr<File> csv_file_, decisions_file_;
     std::string road_;
 };
 

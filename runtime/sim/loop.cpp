@@ -111,7 +111,7 @@ RunResult run(World& w, RunObserver* observer) {
             const Driver& d = *a->driver;
             VehicleMetrics& vm = out.vehicles[static_cast<size_t>(a->index)];
             ++vm.plans;
-            out.timing.plan_us.push_back(d.plan_us);
+            out.timing.plan_us.add(d.plan_us);
             out.timing.candidates += d.candidates;
             if (d.fallback) {
                 ++vm.fallback_plans;
@@ -120,7 +120,7 @@ RunResult run(World& w, RunObserver* observer) {
             }
             if (observer) observer->plan(w, *a);
         }
-        out.timing.tick_us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - tick0).count());
+        out.timing.tick_us.add(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - tick0).count());
         if (w.options.realtime) std::this_thread::sleep_until(wall0 + std::chrono::duration<double>((tick + 1) * w.dt));
         if (w.options.progress && tick % 30 == 0) w.options.progress(static_cast<double>(tick) / total_ticks);
     }
