@@ -197,7 +197,7 @@ ir::Vehicle Checker::check_vehicle(const ast::VehicleDecl& v, ScenarioCtx& ctx,
     const std::string what = "vehicle '" + v.name.text + "'";
     const std::vector<std::string> kinds =
         v.is_ego ? std::vector<std::string>{"sdv", "trajectory", "external"}
-                 : std::vector<std::string>{"sdv", "trajectory", "static"};
+                 : std::vector<std::string>{"sdv", "trajectory", "external", "static"};
     const std::string kind = v.kind.text;
     if (kind == "sdv") out.kind = ir::VehicleKind::sdv;
     else if (kind == "trajectory") out.kind = ir::VehicleKind::trajectory;
@@ -211,10 +211,6 @@ ir::Vehicle Checker::check_vehicle(const ast::VehicleDecl& v, ScenarioCtx& ctx,
         d->notes.push_back({{}, std::string(v.is_ego ? "the ego" : "a vehicle") + " is one of: " + list});
     }
     if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) return out;
-    if (out.kind == ir::VehicleKind::external) {
-        auto* d = error("E0113", v.kind.range, "external egos (co-simulation) are not supported yet");
-        d->notes.push_back({{}, "use 'sdv' (a placeholder driven by a tree) or 'trajectory'"});
-    }
     auto set = settings_map(v.settings, {"speed", "length", "width"}, what);
     ParamDef def;
     auto num = [&](const ast::Setting* s, Dim dim, double lo, double hi, bool excl, double fallback) {

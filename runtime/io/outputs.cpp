@@ -66,6 +66,9 @@ std::string summary_json(const ir::Program& p, int scenario, const sim::RunResul
     j["ticks"] = r.ticks;
     j["passed"] = r.passed();
     if (!r.error.empty()) j["error"] = r.error;
+    if (!info.cosim_ending.empty()) {
+        j["cosim"] = {{"ending", info.cosim_ending}, {"aborted", info.cosim_ending.rfind("aborted", 0) == 0}};
+    }
     j["expectations"] = Json::array();
     for (size_t k = 0; k < r.expectations.size(); ++k) {
         const auto& e = r.expectations[k];

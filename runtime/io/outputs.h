@@ -16,6 +16,9 @@ struct RunInfo {
     uint64_t seed = 0;
     bool trace = false;
     int threads = 1;
+    // A co-simulated run: how it ended ("finished", "stopped by client at tick N",
+    // "aborted: <why>"); empty for a run without a client.
+    std::string cosim_ending;
 };
 
 std::string summary_json(const ir::Program& p, int scenario, const sim::RunResult& r, const RunInfo& info);

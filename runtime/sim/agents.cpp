@@ -102,14 +102,27 @@ public:
     }
 };
 
-// Driven from outside (co-simulation, not supported yet: the checker rejects it, E0113); until
-// then it stays where it is placed.
+// Driven from outside (co-simulation): takes the state its client set for this tick; without
+// one (tick 0, or a step with no update) it stays as it is.
 class ExternalModel final : public AgentModel {
 public:
     const char* kind() const override { return "external"; }
     void advance(const World& w, Agent& a, double t, int tick) const override {
         (void)t;
-        (void)tick;
+        if (tick > 0 && a.external) {
+            const Agent::ExternalState& e = *a.external;
+            a.x = e.x;
+            a.y = e.y;
+            a.yaw = e.yaw;
+            a.speed = e.speed;
+            a.accel = e.accel;
+            a.vx = e.speed * std::cos(e.yaw);
+            a.vy = e.speed * std::sin(e.yaw);
+            a.ax = e.accel * std::cos(e.yaw);
+            a.ay = e.accel * std::sin(e.yaw);
+            if (!e.active) a.past_road_end = true;  // it leaves the run, as off the road's end
+            a.external.reset();
+        }
         localise(w, a, true);
     }
 };

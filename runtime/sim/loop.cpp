@@ -46,96 +46,161 @@ void take_snapshot(World& w, double t) {
     w.grid.build(xs, ys, on, w.scenario.sensor_range);
 }
 
-RunResult run(World& w, RunObserver* observer) {
+}  // namespace
+
+struct Simulation::State {
+    State(const ir::Program& p, int scenario, const RunOptions& options, RunObserver* obs)
+        : world(p, scenario, options), observer(obs) {}
+    World world;
+    RunObserver* observer;
     RunResult out;
-    const ir::Scenario& sc = w.scenario;
-    out.scenario = sc.name;
-    const auto wall0 = std::chrono::steady_clock::now();
-    const int total_ticks = static_cast<int>(std::llround(sc.timeout / w.dt));
-    const int period = std::max(1, static_cast<int>(std::llround(sc.traffic_rate / sc.planning_rate)));
-    GroundTruth truth(w.agents.size(), out);
-    ProgressMonitor progress(w.agents.size());
-    const int threads = std::max(1, w.options.threads);
-    Pool pool(threads);
-    if (observer) observer->start(w);
-    int last_tick = 0;
+    std::optional<GroundTruth> truth;
+    std::optional<ProgressMonitor> progress;
+    std::optional<Pool> pool;
+    std::chrono::steady_clock::time_point wall0;
+    int total_ticks = 0, period = 1, tick = 0;
+    bool started = false, ended = false, finished = false;
     std::vector<Agent*> due;
-    for (int tick = 0; tick <= total_ticks; ++tick) {
-        const auto tick0 = std::chrono::steady_clock::now();
-        const double t = tick * w.dt;
-        // 1. Advance every agent to time t (each writes only its own agent: in parallel).
-        pool.run(w.agents.size(), [&](size_t i) {  // a few µs each: in parallel from 256 agents
-            Agent& a = w.agents[i];
-            if (!a.active) return;
-            if (a.crashed) {
-                // A collision ends a vehicle's motion: it stands where it hit (SPEC §3.10).
-                a.vx = a.vy = a.ax = a.ay = a.speed = a.accel = 0;
-                return;
-            }
-            a.model->advance(w, a, t, tick);
-            if (std::fabs(a.speed) < 0.1) {
-                if (a.stopped_since < 0) a.stopped_since = t;
-            } else {
-                a.stopped_since = -1;
-            }
-        }, 256);
-        for (Agent& a : w.agents) {
-            if (a.active && !a.crashed && a.past_road_end) {
-                // Off the end of the road network: the agent leaves the run here.
-                a.active = false;
-                out.events.push_back({t, "left_road", {a.index}, 0, ""});
-            }
+};
+
+Simulation::Simulation(const ir::Program& program, int scenario, const RunOptions& options, RunObserver* observer)
+    : s_(std::make_unique<State>(program, scenario, options, observer)) {}
+
+Simulation::~Simulation() = default;
+
+// Moves every agent to tick `tick`, takes the snapshot, observes ground truth and reports.
+void Simulation::advance_to(int tick) {
+    State& st = *s_;
+    World& w = st.world;
+    RunResult& out = st.out;
+    const double t = tick * w.dt;
+    st.tick = tick;
+    // 1. Advance every agent to time t (each writes only its own agent: in parallel).
+    st.pool->run(w.agents.size(), [&](size_t i) {  // a few µs each: in parallel from 256 agents
+        Agent& a = w.agents[i];
+        if (!a.active) return;
+        if (a.crashed) {
+            // A collision ends a vehicle's motion: it stands where it hit (SPEC §3.10).
+            a.vx = a.vy = a.ax = a.ay = a.speed = a.accel = 0;
+            return;
         }
-        // 2. Snapshot; 3. ground truth; 4. report.
-        take_snapshot(w, t);
-        const size_t events_before = out.events.size();
-        truth.observe(w, t, tick, &pool);
-        for (size_t e = events_before; e < out.events.size(); ++e) {
-            if (out.events[e].kind != "collision") continue;
-            for (int v : out.events[e].vehicles) {
-                Agent& crashed = w.agents[static_cast<size_t>(v)];
-                if (crashed.v->kind != ir::VehicleKind::static_object) crashed.crashed = true;
-            }
+        a.model->advance(w, a, t, tick);
+        if (std::fabs(a.speed) < 0.1) {
+            if (a.stopped_since < 0) a.stopped_since = t;
+        } else {
+            a.stopped_since = -1;
         }
-        progress.observe(w, t, out);
-        if (observer) observer->tick(w, tick, t);
-        last_tick = tick;
-        if (tick == total_ticks || truth.ended()) break;
-        // 5. Planning of the drivers due at this tick, applied in vehicle order.
-        due.clear();
-        for (Agent& a : w.agents) {
-            if (a.driver && a.active && !a.crashed && (tick + a.index) % period == 0) due.push_back(&a);
+    }, 256);
+    for (Agent& a : w.agents) {
+        if (a.active && !a.crashed && a.past_road_end) {
+            // Off the end of the road network: the agent leaves the run here.
+            a.active = false;
+            out.events.push_back({t, "left_road", {a.index}, 0, ""});
         }
-        pool.run(due.size(), [&](size_t i) { plan_cycle(w, *due[i], t); }, 4);  // tens of µs each
-        for (Agent* a : due) {
-            const Driver& d = *a->driver;
-            VehicleMetrics& vm = out.vehicles[static_cast<size_t>(a->index)];
-            ++vm.plans;
-            out.timing.plan_us.add(d.plan_us);
-            out.timing.candidates += d.candidates;
-            if (d.fallback) {
-                ++vm.fallback_plans;
-                if (!vm.fallback_used) out.events.push_back({t, "fallback", {a->index}, 0, ""});
-                vm.fallback_used = true;
-            }
-            if (observer) observer->plan(w, *a);
-        }
-        out.timing.tick_us.add(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - tick0).count());
-        if (w.options.realtime) std::this_thread::sleep_until(wall0 + std::chrono::duration<double>((tick + 1) * w.dt));
-        if (w.options.progress && tick % 30 == 0) w.options.progress(static_cast<double>(tick) / total_ticks);
     }
-    truth.finish();
-    out.ticks = last_tick;
-    out.duration = last_tick * w.dt;
-    out.timed_out = !truth.ended();
+    // 2. Snapshot; 3. ground truth; 4. report.
+    take_snapshot(w, t);
+    const size_t events_before = out.events.size();
+    st.truth->observe(w, t, tick, &*st.pool);
+    for (size_t e = events_before; e < out.events.size(); ++e) {
+        if (out.events[e].kind != "collision") continue;
+        for (int v : out.events[e].vehicles) {
+            Agent& crashed = w.agents[static_cast<size_t>(v)];
+            if (crashed.v->kind != ir::VehicleKind::static_object) crashed.crashed = true;
+        }
+    }
+    st.progress->observe(w, t, out);
+    if (st.observer) st.observer->tick(w, tick, t);
+    if (tick == st.total_ticks || st.truth->ended()) st.ended = true;
+}
+
+std::string Simulation::start() {
+    State& st = *s_;
+    if (st.started) return "";
+    st.started = true;
+    World& w = st.world;
+    st.out.scenario = w.scenario.name;
+    if (auto e = w.init(); !e.empty()) {
+        st.out.error = e;
+        st.ended = true;
+        return e;
+    }
+    st.wall0 = std::chrono::steady_clock::now();
+    st.total_ticks = static_cast<int>(std::llround(w.scenario.timeout / w.dt));
+    st.period = std::max(1, static_cast<int>(std::llround(w.scenario.traffic_rate / w.scenario.planning_rate)));
+    st.truth.emplace(w.agents.size(), st.out);
+    st.progress.emplace(w.agents.size());
+    st.pool.emplace(std::max(1, w.options.threads));
+    if (st.observer) st.observer->start(w);
+    const auto tick0 = std::chrono::steady_clock::now();
+    advance_to(0);
+    st.out.timing.tick_us.add(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - tick0).count());
+    return "";
+}
+
+bool Simulation::step() {
+    State& st = *s_;
+    if (!st.started || st.ended || st.finished) return false;
+    World& w = st.world;
+    RunResult& out = st.out;
+    const auto tick0 = std::chrono::steady_clock::now();
+    const int tick = st.tick;
+    const double t = tick * w.dt;
+    // 5. Planning of the drivers due at this tick (from its snapshot), applied in vehicle order.
+    auto& due = st.due;
+    due.clear();
+    for (Agent& a : w.agents) {
+        if (a.driver && a.active && !a.crashed && (tick + a.index) % st.period == 0) due.push_back(&a);
+    }
+    st.pool->run(due.size(), [&](size_t i) { plan_cycle(w, *due[i], t); }, 4);  // tens of µs each
+    for (Agent* a : due) {
+        const Driver& d = *a->driver;
+        VehicleMetrics& vm = out.vehicles[static_cast<size_t>(a->index)];
+        ++vm.plans;
+        out.timing.plan_us.add(d.plan_us);
+        out.timing.candidates += d.candidates;
+        if (d.fallback) {
+            ++vm.fallback_plans;
+            if (!vm.fallback_used) out.events.push_back({t, "fallback", {a->index}, 0, ""});
+            vm.fallback_used = true;
+        }
+        if (st.observer) st.observer->plan(w, *a);
+    }
+    // Then the next tick.
+    advance_to(tick + 1);
+    out.timing.tick_us.add(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - tick0).count());
+    if (w.options.realtime) std::this_thread::sleep_until(st.wall0 + std::chrono::duration<double>((tick + 1) * w.dt));
+    if (w.options.progress && (tick + 1) % 30 == 0) w.options.progress(static_cast<double>(tick + 1) / st.total_ticks);
+    return true;
+}
+
+bool Simulation::ended() const { return s_->ended; }
+int Simulation::tick() const { return s_->tick; }
+double Simulation::time() const { return s_->tick * s_->world.dt; }
+World& Simulation::world() { return s_->world; }
+const World& Simulation::world() const { return s_->world; }
+const RunResult& Simulation::result() const { return s_->out; }
+
+RunResult Simulation::finish() {
+    State& st = *s_;
+    if (!st.started) start();
+    if (st.finished || !st.out.error.empty()) {
+        st.finished = true;
+        return st.out;
+    }
+    st.finished = true;
+    RunResult& out = st.out;
+    st.truth->finish();
+    out.ticks = st.tick;
+    out.duration = st.tick * st.world.dt;
+    out.timed_out = !st.truth->ended() && st.tick == st.total_ticks;
     if (out.timed_out) out.events.push_back({out.duration, "timeout", {}, 0, ""});
     std::stable_sort(out.events.begin(), out.events.end(), [](const Event& a, const Event& b) { return a.time < b.time; });
-    out.timing.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    evaluate_expectations(sc, out);
+    out.timing.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - st.wall0).count();
+    evaluate_expectations(st.world.scenario, out);
     return out;
 }
 
-}  // namespace
 
 bool RunResult::passed() const {
     return error.empty() && std::all_of(expectations.begin(), expectations.end(), [](const ExpectResult& e) { return e.passed; });
@@ -147,13 +212,11 @@ RunResult simulate(const ir::Program& program, int scenario, const RunOptions& o
         out.error = "no such scenario";
         return out;
     }
-    World world(program, scenario, options);
-    if (auto e = world.init(); !e.empty()) {
-        out.error = e;
-        out.scenario = program.scenarios[static_cast<size_t>(scenario)].name;
-        return out;
+    Simulation sim(program, scenario, options, observer);
+    if (auto e = sim.start(); !e.empty()) return sim.finish();
+    while (sim.step()) {
     }
-    return run(world, observer);
+    return sim.finish();
 }
 
 }  // namespace sdv::sim

@@ -148,6 +148,37 @@ public:
     }
 };
 
+// A run taken one tick at a time (co-simulation drives it; simulate() runs one to its end).
+// Tick k's step plans every SDV due at k from the snapshot at k, then moves every agent to
+// k+1 (agents driven from outside take the state set on them for k+1), takes the snapshot at
+// k+1 and its ground truth: a Jacobi step, independent of who sets what when.
+class Simulation {
+public:
+    Simulation(const ir::Program& program, int scenario, const RunOptions& options, RunObserver* observer = nullptr);
+    ~Simulation();
+    Simulation(const Simulation&) = delete;
+    Simulation& operator=(const Simulation&) = delete;
+    // Builds the world and takes tick 0; a located error message, or "".
+    std::string start();
+    // One step k → k+1; false (and nothing done) once the run has ended.
+    bool step();
+    // The run has ended: its timeout, or an end condition (a goal that ends it, a collision...).
+    bool ended() const;
+    int tick() const;
+    double time() const;
+    World& world();
+    const World& world() const;
+    // The result so far: events as they happen (in time order), metrics of the ticks so far.
+    const RunResult& result() const;
+    // Ends the run (at any tick): final metrics and the expectations' verdicts.
+    RunResult finish();
+
+private:
+    struct State;
+    void advance_to(int tick);
+    std::unique_ptr<State> s_;
+};
+
 // Builds the world (roads, vehicles, trees) of one scenario and runs it, reporting to
 // `observer` when given.
 RunResult simulate(const ir::Program& program, int scenario, const RunOptions& options, RunObserver* observer = nullptr);

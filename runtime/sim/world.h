@@ -138,6 +138,13 @@ struct Agent {
     double stopped_gap = 0;         // its front bumper's distance to that line then
     std::shared_ptr<const AgentModel> model;
     std::unique_ptr<Driver> driver;  // agents that plan (SDVs)
+    // An agent driven from outside (co-simulation): its state at the next tick, set before the
+    // step that moves it there (box centre, heading, signed speed and acceleration).
+    struct ExternalState {
+        double x = 0, y = 0, yaw = 0, speed = 0, accel = 0;
+        bool active = true;
+    };
+    std::optional<ExternalState> external;
 };
 
 struct World {
