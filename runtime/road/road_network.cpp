@@ -75,14 +75,82 @@ const ReferenceLine& RoadNetwork::reference(LaneId id) const {
     return *slot;
 }
 
+void RoadNetwork::Box::add(Vec2 p) {
+    x0 = std::min(x0, p.x);
+    y0 = std::min(y0, p.y);
+    x1 = std::max(x1, p.x);
+    y1 = std::max(y1, p.y);
+}
+
+double RoadNetwork::Box::distance2(Vec2 p) const {
+    const double dx = std::max({x0 - p.x, 0.0, p.x - x1});
+    const double dy = std::max({y0 - p.y, 0.0, p.y - y1});
+    return dx * dx + dy * dy;
+}
+
+namespace {
+
+// Whether a box at squared distance d2 is certainly farther than `limit` (a distance): the
+// comparison is made with a margin, so that rounding never skips a box that holds the minimum.
+bool beyond(double d2, double limit) { return d2 > limit * limit * (1 + 1e-9) + 1e-12; }
+
+}  // namespace
+
+void RoadNetwork::prepare() {
+    for (const auto& l : lanes_) (void)reference(l.id);
+    boxes_.assign(lanes_.size(), {});
+    for (size_t i = 0; i < lanes_.size(); ++i) {
+        const auto& c = lanes_[i].centre;
+        LaneBoxes& b = boxes_[i];
+        b.chunks.resize((c.size() + kChunk - 1) / kChunk);
+        for (size_t k = 0; k < c.size(); ++k) {
+            b.all.add(c[k]);
+            b.chunks[k / kChunk].add(c[k]);
+        }
+    }
+}
+
+double RoadNetwork::nearest_point(const Lane& l, Vec2 p) const {
+    double near = INFINITY;
+    const size_t i = static_cast<size_t>(l.id);
+    if (i >= boxes_.size() || boxes_[i].chunks.size() * kChunk < l.centre.size()) {
+        for (const auto& q : l.centre) near = std::min(near, distance(p, q));
+        return near;
+    }
+    const auto& chunks = boxes_[i].chunks;
+    auto scan = [&](size_t k) {
+        const size_t end = std::min(l.centre.size(), (k + 1) * kChunk);
+        for (size_t j = k * kChunk; j < end; ++j) near = std::min(near, distance(p, l.centre[j]));
+    };
+    // The nearest box first (a tight bound at once), then every box that may hold a nearer
+    // point: box distance <= the distance of every point inside it. The minimum is the same in
+    // any order.
+    size_t first = 0;
+    double first_d2 = INFINITY;
+    for (size_t k = 0; k < chunks.size(); ++k) {
+        const double d2 = chunks[k].distance2(p);
+        if (d2 < first_d2) {
+            first_d2 = d2;
+            first = k;
+        }
+    }
+    scan(first);
+    for (size_t k = 0; k < chunks.size(); ++k) {
+        if (k != first && !beyond(chunks[k].distance2(p), near)) scan(k);
+    }
+    return near;
+}
+
 RoadNetwork::Location RoadNetwork::locate(Vec2 p, std::optional<double> heading) const {
     Location best;
     double best_score = INFINITY;
     for (const auto& l : lanes_) {
         if (l.centre.size() < 2) continue;
-        // Cheap bound first: distance to the polyline's points.
-        double near = INFINITY;
-        for (const auto& q : l.centre) near = std::min(near, distance(p, q));
+        // Cheap bounds first: the lane's box, then the distance to the polyline's points (the
+        // box distance is at most that, so the box skips only lanes the points would).
+        const size_t i = static_cast<size_t>(l.id);
+        if (i < boxes_.size() && beyond(boxes_[i].all.distance2(p), best_score + l.length)) continue;
+        const double near = nearest_point(l, p);
         if (near > best_score + l.length) continue;
         const auto& ref = reference(l.id);
         const FrenetState f = ref.project(p);

@@ -4,6 +4,7 @@
 // direction), stop lines, traffic lights and intersection rules.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -74,9 +75,29 @@ public:
     // The reference line of one lane (built on first use and kept).
     const ReferenceLine& reference(LaneId id) const;
 
+    // Builds every reference line and the index that makes locate() fast (boxes around runs of
+    // centre points): call once the network is complete, before threads read it. locate()
+    // gives the same answer with or without the index.
+    void prepare();
+
 private:
+    struct Box {
+        double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+        void add(Vec2 p);
+        double distance2(Vec2 p) const;  // squared; 0 inside
+    };
+    static constexpr size_t kChunk = 16;  // centre points per box
+    struct LaneBoxes {
+        Box all;
+        std::vector<Box> chunks;  // points [k·kChunk, (k+1)·kChunk)
+    };
+    // The distance from p to the nearest centre point of lane l (exactly the minimum over its
+    // points), skipping runs of points whose box is farther than the nearest so far.
+    double nearest_point(const Lane& l, Vec2 p) const;
+
     std::vector<Lane> lanes_;
     mutable std::vector<std::optional<ReferenceLine>> refs_;
+    std::vector<LaneBoxes> boxes_;  // empty until prepare()
 };
 
 // Polyline helpers.

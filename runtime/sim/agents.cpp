@@ -47,12 +47,22 @@ private:
 
 // Coordinates on the lane under a non-SDV agent.
 void localise(const World& w, Agent& a, bool relocate) {
-    if (relocate) a.lane = w.net.locate({a.x, a.y}, a.yaw).lane;
-    if (a.lane != kNoLane) {
+    double s = 0, d = 0;
+    if (relocate) {
+        // locate() projected onto the lane it found: the same projection as below.
+        const auto found = w.net.locate({a.x, a.y}, a.yaw);
+        a.lane = found.lane;
+        s = found.s;
+        d = found.d;
+    } else if (a.lane != kNoLane) {
         const auto f = w.net.reference(a.lane).project({a.x, a.y});
-        a.lane_s = f.s;
-        a.lane_d = f.d;
-        a.centre_lane = f.s >= 0 && f.s <= w.net.lane(a.lane).length ? centre_lane(w.net, a.lane, a.lane_d) : kNoLane;
+        s = f.s;
+        d = f.d;
+    }
+    if (a.lane != kNoLane) {
+        a.lane_s = s;
+        a.lane_d = d;
+        a.centre_lane = s >= 0 && s <= w.net.lane(a.lane).length ? centre_lane(w.net, a.lane, a.lane_d) : kNoLane;
     }
 }
 

@@ -122,9 +122,9 @@ std::string World::build_road() {
             break;
         }
     }
-    // Reference lines are built lazily by the network: build them all now, before any thread
-    // reads them.
-    for (const auto& l : net.lanes()) (void)net.reference(l.id);
+    // Reference lines are built lazily by the network: build them all now (and the index of
+    // locate), before any thread reads them.
+    net.prepare();
     for (const auto& l : scenario.lights) {
         programs[l.name] = &l;
         const bool known = std::any_of(net.lights.begin(), net.lights.end(), [&](const road::TrafficLight& x) { return x.name == l.name; });
