@@ -20,6 +20,9 @@
 #include "compiler/syntax/format.h"
 #include "compiler/syntax/parser.h"
 #include "runtime/catalog/catalog.h"
+#include "runtime/cosim/replay.h"
+#include "runtime/cosim/server.h"
+#include "runtime/cosim/sha256.h"
 #include "runtime/io/gss_outputs.h"
 #include "runtime/io/outputs.h"
 #include "runtime/io/plot.h"
@@ -236,7 +239,119 @@ struct RunArgs {
     std::optional<uint64_t> seed;
     int threads = 1;
     bool trace = false, realtime = false, gss_outputs = false, view = false;
+    // Co-simulation (docs/cosim.md): sdv serves one client at this endpoint.
+    std::string cosim, cosim_port_file, cosim_encoding = "binary", cosim_record;
+    double cosim_step_timeout = 0, cosim_connect_timeout = 60;
 };
+
+// The extras of a finished run directory (--gss-outputs, --view); an exit code.
+int write_extras(const RunArgs& args, const std::string& dir, const ir::Program& program, int index,
+                 const sim::RunResult& r) {
+    if (args.gss_outputs) {
+        std::ifstream csv(std::filesystem::path(dir) / "trajectories.csv", std::ios::binary);
+        if (auto e = io::write_gss_outputs(dir, program, index, r, csv); !e.empty()) {
+            std::cerr << "sdv: error: " << e << "\n";
+            return kFailure;
+        }
+    }
+    if (args.view) {
+        std::string error;
+        const std::string html = io::view_report(dir, error);
+        const std::string path = (std::filesystem::path(dir) / "report.html").string();
+        if (!error.empty()) {
+            std::cerr << "sdv: error: " << error << "\n";
+            return kFailure;
+        }
+        if (!write_file(path, html)) return kFailure;
+        std::cout << "report in " << path << "\n";
+    }
+    return kOk;
+}
+
+// `sdv run --cosim`: the scenario as a co-simulation server (runtime/cosim/server.h). The run
+// writes the same outputs and prints the same report as `sdv run`; the exit status is the
+// session's (cosim::kExit*: 0/1 the verdict after Bye, 4 client gone, 5 Error sent, 6 time-out).
+int cmd_run_cosim(const RunArgs& args, ir::Program program, int index, const std::string& file_text) {
+    std::string error;
+    const auto endpoint = cosim::parse_endpoint(args.cosim, error);
+    if (!endpoint) {
+        std::cerr << "sdv: error: --cosim: " << error << "\n";
+        return kUsage;
+    }
+    if (args.realtime) {
+        std::cerr << "sdv: error: --realtime does not apply to --cosim: the client drives the clock\n";
+        return kUsage;
+    }
+    if (args.cosim_step_timeout < 0 || args.cosim_connect_timeout < 0) {
+        std::cerr << "sdv: error: co-simulation time-outs are seconds >= 0 (0: wait forever)\n";
+        return kUsage;
+    }
+    auto shared = std::make_shared<const ir::Program>(std::move(program));
+    const ir::Scenario& sc = shared->scenarios[static_cast<size_t>(index)];
+    const std::string dir = args.out.empty() ? "out/" + sc.name : args.out;
+    cosim::SessionOptions so;
+    so.seed = args.seed;
+    so.threads = args.threads;
+    so.trace = args.trace;
+    so.output_dir = dir;
+    auto session = cosim::Session::create(shared, index, so, error);
+    if (!session) {
+        std::cerr << error << "\n";
+        return kFailure;
+    }
+    cosim::WelcomeInfo info = cosim::welcome_info(*shared, index);
+    info.sdv_version = compiler::kCompilerVersion;
+    info.scenario = args.file;
+    info.scenario_sha256 = cosim::sha256_hex(file_text);
+    cosim::ServerOptions opts;
+    opts.encoding = *cosim::parse_encoding(args.cosim_encoding);
+    opts.connect_timeout_s = args.cosim_connect_timeout;
+    opts.step_timeout_s = args.cosim_step_timeout;
+    opts.port_file = args.cosim_port_file;
+    opts.record_path = args.cosim_record;
+    cosim::RecordHeader header;
+    std::error_code ec;
+    header.scenario = std::filesystem::absolute(args.file, ec).string();
+    header.scenario_name = sc.name;
+    header.sdv_version = info.sdv_version;
+    auto server = cosim::Server::listen(*endpoint, opts, header, error);
+    if (!server) {
+        std::cerr << "sdv: error: " << error << "\n";
+        return kFailure;
+    }
+    // A client (or its test) reads this line, or the --cosim-port-file, to know where to connect.
+    std::cout << "listening on " << server->address() << std::endl;
+    const cosim::ServeResult res = server->serve(*session, info);
+    using Kind = cosim::Protocol::Outcome::Kind;
+    const std::string who = res.client_name.empty() ? "the client" : "client '" + res.client_name + "'";
+    switch (res.outcome.kind) {
+        case Kind::bye:
+            std::cout << who << " said Bye after " << res.steps << " step" << (res.steps == 1 ? "" : "s")
+                      << (res.outcome.message.empty() ? "" : " (" + res.outcome.message + ")") << "\n";
+            break;
+        case Kind::disconnected:
+            std::cerr << "sdv: error: co-simulation aborted after " << res.steps << " steps: " << res.outcome.message << "\n";
+            break;
+        case Kind::client_error:
+            std::cerr << "sdv: error: co-simulation aborted after " << res.steps << " steps: " << who << " sent Error "
+                      << res.outcome.message << "\n";
+            break;
+        case Kind::error:
+        case Kind::timeout:
+            std::cerr << "sdv: error: co-simulation aborted after " << res.steps << " steps: sent Error "
+                      << cosim::code_name(res.outcome.code) << ": " << res.outcome.message << "\n";
+            break;
+        case Kind::open: break;
+    }
+    if (!res.finish_error.empty()) std::cerr << "sdv: error: " << res.finish_error << "\n";
+    if (const sim::RunResult* r = session->result()) {
+        std::cout << io::report(*shared, index, *r) << "outputs in " << dir << "\n";
+        if (res.finish_error.empty() && write_extras(args, dir, *shared, index, *r) != kOk && res.exit_status == kOk) {
+            return kFailure;
+        }
+    }
+    return res.exit_status;
+}
 
 int cmd_run(const RunArgs& args, const Common& c, const WarningFlags& w) {
     std::optional<ir::Program> program;
@@ -291,6 +406,14 @@ int cmd_run(const RunArgs& args, const Common& c, const WarningFlags& w) {
         return kUsage;
     }
     const ir::Scenario& sc = program->scenarios[static_cast<size_t>(index)];
+    if (!args.cosim.empty()) return cmd_run_cosim(args, std::move(*program), index, text);
+    for (const auto& v : sc.vehicles) {
+        if (v.kind != ir::VehicleKind::external) continue;
+        std::cerr << "sdv: error: vehicle '" << v.name << "' of scenario '" << sc.name
+                  << "' is external: a co-simulation client drives it. Run with --cosim tcp://127.0.0.1:0 "
+                     "(or --cosim unix:PATH) and connect the client (docs/cosim.md)\n";
+        return kUsage;
+    }
     sim::RunOptions opts;
     opts.seed = args.seed;
     opts.threads = args.threads;
@@ -503,6 +626,78 @@ int cmd_convert(const std::string& file, const std::string& out, const Common& c
     return kOk;
 }
 
+// `sdv replay-cosim RECORD`: plays a recorded co-simulation back against a fresh session of
+// the same scenario and seed; exit 0 when sdv answers every recorded request with the recorded
+// bytes, 1 at the first difference (or an unreadable record).
+int cmd_replay_cosim(const std::string& record, const std::string& out, const Common& c) {
+    std::string error;
+    const auto summary = cosim::summarize_record(record, error);
+    if (!summary) {
+        std::cerr << "sdv: error: " << error << "\n";
+        return kFailure;
+    }
+    const std::string& file = summary->header.scenario;
+    std::ifstream in(file, std::ios::binary);
+    if (!in) {
+        std::cerr << "sdv: error: cannot read the recorded scenario '" << file << "'\n";
+        return kFailure;
+    }
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string text = ss.str();
+    std::optional<ir::Program> program;
+    if (compiler::gss::is_geoscenario_path(file)) {
+        diag::SourceManager sm;
+        diag::DiagnosticEngine diags(sm);
+        auto result = compile_input(file, c, sm, diags);
+        if (report(diags, sm, c) || !result.program) return kFailure;
+        program = std::move(result.program);
+    } else {
+        program = load_program(file, c);
+        if (!program) return kFailure;
+    }
+    int index = -1;
+    for (size_t i = 0; i < program->scenarios.size(); ++i) {
+        if (program->scenarios[i].name == summary->header.scenario_name) index = static_cast<int>(i);
+    }
+    if (index < 0) {
+        std::cerr << "sdv: error: no scenario '" << summary->header.scenario_name << "' in '" << file << "' any more\n";
+        return kFailure;
+    }
+    const std::string sha = cosim::sha256_hex(text);
+    if (summary->welcome && summary->welcome->scenario_sha256() != sha) {
+        std::cout << "note: '" << file << "' changed since the recording; comparing behaviour with the changed scenario\n";
+    }
+    auto shared = std::make_shared<const ir::Program>(std::move(*program));
+    cosim::SessionOptions so;
+    if (summary->welcome) so.seed = summary->welcome->seed();
+    so.output_dir = out;
+    auto session = cosim::Session::create(shared, index, so, error);
+    if (!session) {
+        std::cerr << error << "\n";
+        return kFailure;
+    }
+    cosim::WelcomeInfo info = cosim::welcome_info(*shared, index);
+    info.sdv_version = compiler::kCompilerVersion;
+    info.scenario = summary->welcome ? summary->welcome->scenario() : file;
+    info.scenario_sha256 = summary->welcome ? summary->welcome->scenario_sha256() : sha;
+    const cosim::ReplayResult r = cosim::replay(record, *session, info);
+    if (!r.error.empty()) std::cerr << "sdv: error: " << r.error << "\n";
+    if (!r.finish_error.empty()) std::cerr << "sdv: error: " << r.finish_error << "\n";
+    if (r.identical) {
+        std::cout << "replayed " << r.steps << " step" << (r.steps == 1 ? "" : "s") << " of " << record << ": all "
+                  << r.compared << " replies identical\n";
+    } else {
+        std::cout << "replayed " << r.steps << " step" << (r.steps == 1 ? "" : "s") << " of " << record << ": "
+                  << r.differing << " of " << r.compared << " replies differ; " << r.first_difference;
+        if (!r.first_difference.empty() && r.first_difference.back() != '\n') std::cout << "\n";
+    }
+    if (!out.empty() && session->result()) {
+        std::cout << io::report(*shared, index, *session->result()) << "outputs in " << out << "\n";
+    }
+    return r.identical && r.finish_error.empty() ? kOk : kFailure;
+}
+
 int cmd_catalog(const std::string& format) {
     if (format == "json") {
         std::cout << catalog::to_json().dump(2) << "\n";
@@ -574,7 +769,32 @@ int run(int argc, char** argv) {
     run_cmd->add_flag("--view", run_args.view, "also write DIR/report.html (see `sdv view`)");
     run_cmd->add_flag("--gss-outputs", run_args.gss_outputs,
                       "also write GeoScenario's violations.json and trajectory_v<id>.csv");
+    auto* cosim_opt = run_cmd->add_option("--cosim", run_args.cosim,
+                                          "co-simulation: serve one client at tcp://HOST:PORT (port 0: any free port; "
+                                          "loopback by default) or unix:PATH (docs/cosim.md)");
+    run_cmd->add_option("--cosim-port-file", run_args.cosim_port_file,
+                        "write the chosen TCP port (or the Unix socket path) to this file once listening")
+        ->needs(cosim_opt);
+    run_cmd->add_option("--cosim-encoding", run_args.cosim_encoding, "frame payloads: binary protobuf (default) or proto3-JSON")
+        ->check(CLI::IsMember({"binary", "json"}))
+        ->needs(cosim_opt);
+    run_cmd->add_option("--cosim-step-timeout", run_args.cosim_step_timeout,
+                        "seconds to wait for each request before aborting with Error TIMEOUT (0: forever, the default)")
+        ->needs(cosim_opt);
+    run_cmd->add_option("--cosim-connect-timeout", run_args.cosim_connect_timeout,
+                        "seconds for the client to connect and send Hello (default 60; 0: forever)")
+        ->needs(cosim_opt);
+    run_cmd->add_option("--cosim-record", run_args.cosim_record,
+                        "record every frame of the session to this file (replay with `sdv replay-cosim`)")
+        ->needs(cosim_opt);
     add_common(run_cmd);
+
+    std::string replay_file, replay_out;
+    auto* replay_cmd = app.add_subcommand("replay-cosim", "play a recorded co-simulation (--cosim-record) back against a fresh "
+                                                          "run; exit 0 when every reply is identical");
+    replay_cmd->add_option("file", replay_file, "the record")->required();
+    replay_cmd->add_option("-o,--output", replay_out, "also write the run's outputs to this directory");
+    add_common(replay_cmd);
 
     std::vector<std::string> fmt_files;
     bool fmt_check = false, fmt_stdout = false;
@@ -656,6 +876,7 @@ int run(int argc, char** argv) {
         const std::string svg = io::plot_run(plot_dir, error);
         return emit_report(svg, error, plot_out, false);
     }
+    if (replay_cmd->parsed()) return cmd_replay_cosim(replay_file, replay_out, common);
     if (run_cmd->parsed()) {
         if (seed_opt->count() > 0) run_args.seed = seed_value;
         return cmd_run(run_args, common, warnings);

@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Installs the Debian packages sdv builds against (SPEC §2), plus Chromium and Node.js for the
-# browser test of `sdv view` (only with --tests). Run as root on Debian 12.
+# browser test of `sdv view` and python3-protobuf for the co-simulation clients (only with
+# --tests). Run as root on Debian 12.
 set -euo pipefail
 pkgs=(build-essential cmake antlr4 libantlr4-runtime-dev libeigen3-dev libpugixml-dev libcli11-dev
-      doctest-dev nlohmann-json3-dev libgeographiclib-dev libbenchmark-dev)
+      doctest-dev nlohmann-json3-dev libgeographiclib-dev libbenchmark-dev libprotobuf-dev protobuf-compiler)
 if [ "${1:-}" = --tests ]; then
-    pkgs+=(chromium)
+    pkgs+=(chromium python3-protobuf)
     command -v npm >/dev/null || pkgs+=(nodejs npm)
 fi
 missing=()

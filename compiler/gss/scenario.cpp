@@ -103,7 +103,7 @@ public:
             } else if (what != "tnode") {
                 diags_.error("E0913", gs->second.range, "node " + std::to_string(id) + ": GeoScenario element '" + what +
                                                             "' is not supported by sdv")
-                    .notes.push_back({{}, "supported: globalconfig, origin, vehicle (SDV, TV), trafficlight, staticobject, "
+                    .notes.push_back({{}, "supported: globalconfig, origin, vehicle (SDV, TV, EV), trafficlight, staticobject, "
                                           "route, trajectory"});
             }
         }
@@ -293,11 +293,10 @@ private:
             auto tr = text(tags, "trajectory");
             if (!tr) diags_.error("E0911", v.range, who + ": a trajectory vehicle (TV) needs a 'trajectory' tag");
             v.trajectory = tr.value_or("");
-        } else {
+        } else if (v.btype != "EV") {  // EV: an external vehicle, driven by a co-simulation client
             auto& d = diags_.error("E0913", tags.count("btype") ? tags.at("btype").range : v.range,
                                    who + ": vehicle type '" + v.btype + "' is not supported by sdv");
-            d.notes.push_back({{}, "supported: SDV (simulated driver) and TV (trajectory vehicle)"});
-            if (v.btype == "EV") d.notes.push_back({{}, "an external (co-simulated) vehicle needs a co-simulation bridge, which sdv does not have yet"});
+            d.notes.push_back({{}, "supported: SDV (simulated driver), TV (trajectory vehicle) and EV (external vehicle)"});
             return;
         }
         sc.vehicles.push_back(v);
@@ -517,6 +516,14 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
             out << "        tree " << tree_of.at(v.vid) << "()\n    }\n";
             all_sdv_goals.push_back(name);
             if (v.goal_ends_simulation) goal_vehicles.push_back(name);
+        } else if (v.btype == "EV") {
+            // Where it starts; from then on its co-simulation client sets its state.
+            out << "    vehicle " << name << ": external {\n";
+            out << "        start at " << xy(v.at) << "\n";
+            out << "        speed " << fixed(v.speed, 3) << " m/s\n";
+            if (v.length != 4.5) out << "        length " << fixed(v.length, 3) << " m\n";
+            if (v.width != 1.8) out << "        width " << fixed(v.width, 3) << " m\n";
+            out << "    }\n";
         } else {
             const auto& tn = sc->trajectories.at(v.trajectory);
             out << "    vehicle " << name << ": trajectory {\n";
