@@ -161,7 +161,6 @@ sdv_status sdv_create(const sdv_config* cfg, sdv_sim** out) {
         opts.trace = (cfg->flags & SDV_FLAG_TRACE) != 0;
         opts.threads = std::max(1, static_cast<int>(cfg->threads));
         if (cfg->output_dir != nullptr) opts.output_dir = cfg->output_dir;
-        opts.client = "C API";
         h->session = sdv::cosim::Session::create(program, index, opts, h->error);
         return h->session ? SDV_OK : SDV_ERR_SCENARIO;
     } catch (const std::exception& e) {

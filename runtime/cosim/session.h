@@ -65,7 +65,6 @@ struct SessionOptions {
     bool trace = false;
     bool maneuver_events = true;   // report NPC maneuver changes as events
     std::string output_dir;        // empty: write no outputs
-    std::string client;            // the client's name, for summary.json
 };
 
 class Session {

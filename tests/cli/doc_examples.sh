@@ -26,8 +26,25 @@ for f in "$dir"/*.sdv; do
         fail=1
         continue
     fi
-    # Examples with a scenario must also run with their expectations holding.
-    if grep -q '^scenario ' "$f"; then
+    # Examples with a scenario must also run with their expectations holding; one with an
+    # external vehicle, with the reference co-simulation client driving it.
+    if grep -q ': external' "$f"; then
+        port=$dir/port_$(basename "$f" .sdv)
+        "$sdv" run "$f" --cosim tcp://127.0.0.1:0 --cosim-port-file "$port" --cosim-encoding json \
+            --cosim-step-timeout 60 -o "$dir/out_$(basename "$f" .sdv)" > "$dir/cosim.log" 2>&1 &
+        server=$!
+        client=$(python3 "$root/examples/cosim/ads_client.py" --port-file "$port" 2>&1)
+        ccode=$?
+        wait "$server"
+        if [ $? -ne 0 ] || [ $ccode -ne 0 ]; then
+            echo "FAIL $(basename "$f") does not run with the reference client:"
+            echo "$client"
+            cat "$dir/cosim.log"
+            fail=1
+            continue
+        fi
+        echo "ok   $(basename "$f") (lints and runs, co-simulated)"
+    elif grep -q '^scenario ' "$f"; then
         if ! out=$("$sdv" run "$f" -o "$dir/out_$(basename "$f" .sdv)" 2>&1); then
             echo "FAIL $(basename "$f") does not run:"
             echo "$out"
