@@ -462,25 +462,8 @@ int cmd_run(const RunArgs& args, const Common& c, const WarningFlags& w) {
         std::cerr << "sdv: error: " << e << "\n";
         return kFailure;
     }
-    if (args.gss_outputs) {
-        std::ifstream csv(std::filesystem::path(dir) / "trajectories.csv", std::ios::binary);
-        if (auto e = io::write_gss_outputs(dir, *program, index, r, csv); !e.empty()) {
-            std::cerr << "sdv: error: " << e << "\n";
-            return kFailure;
-        }
-    }
     std::cout << io::report(*program, index, r) << "outputs in " << dir << "\n";
-    if (args.view) {
-        std::string error;
-        const std::string html = io::view_report(dir, error);
-        const std::string path = (std::filesystem::path(dir) / "report.html").string();
-        if (!error.empty()) {
-            std::cerr << "sdv: error: " << error << "\n";
-            return kFailure;
-        }
-        if (!write_file(path, html)) return kFailure;
-        std::cout << "report in " << path << "\n";
-    }
+    if (const int e = write_extras(args, dir, *program, index, r); e != kOk) return e;
     return r.passed() ? kOk : kFailure;
 }
 
