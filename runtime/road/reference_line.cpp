@@ -117,13 +117,22 @@ std::optional<ReferenceLine> ReferenceLine::build(std::span<const Vec2> points, 
         }
         line.chunks_.push_back(c);
     }
+    const double span = line.s_.back() - line.s_.front();
+    line.per_metre_ = span > 0 ? static_cast<double>(n - 1) / span : 0.0;
     return line;
 }
 
 size_t ReferenceLine::segment(double s) const {
-    auto it = std::upper_bound(s_.begin(), s_.end(), s);
-    const auto i = static_cast<size_t>(it - s_.begin());
-    return std::clamp<size_t>(i, 1, s_.size() - 1) - 1;
+    // The last sample at or before s (clamped to a segment), as a binary search finds it. The
+    // samples are nearly evenly spaced: start where even spacing puts s and walk the rest.
+    const size_t n = s_.size();
+    if (std::isnan(s)) return n - 2;
+    if (!(s > s_.front())) return 0;
+    if (s >= s_.back()) return n - 2;
+    size_t i = std::min(n - 2, static_cast<size_t>((s - s_.front()) * per_metre_));
+    while (i > 0 && s_[i] > s) --i;
+    while (i + 2 < n && s_[i + 1] <= s) ++i;
+    return i;
 }
 
 ReferenceLine::Interp ReferenceLine::at(double s) const {

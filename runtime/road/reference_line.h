@@ -76,6 +76,7 @@ private:
 
     std::vector<double> s_, x_, y_, theta_, kappa_, dkappa_;
     std::vector<Chunk> chunks_;
+    double per_metre_ = 0;  // samples per metre of s on average (segment()'s first guess)
 };
 
 }  // namespace sdv::road

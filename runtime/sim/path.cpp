@@ -35,9 +35,6 @@ std::shared_ptr<const road::ReferenceLine> build_path(const road::RoadNetwork& n
         const auto& l = net.lane(cur);
         d.path.push_back(cur);
         d.path_start.push_back(s0);
-        for (const auto& q : l.centre) {
-            if (pts.empty() || road::distance(pts.back(), q) > 1e-3) pts.push_back(q);
-        }
         s0 += l.length;
         len = s0;
         // Next lane: along the route when it continues by a successor, else the first successor.
@@ -69,6 +66,12 @@ std::shared_ptr<const road::ReferenceLine> build_path(const road::RoadNetwork& n
         if (auto it = cache.lines.find(key); it != cache.lines.end()) {
             d.path_start = it->second.starts;
             return it->second.line;
+        }
+    }
+    // Not built yet: its points (lanes can be kilometres of points; a cached line needs none).
+    for (const LaneId id : d.path) {
+        for (const auto& q : net.lane(id).centre) {
+            if (pts.empty() || road::distance(pts.back(), q) > 1e-3) pts.push_back(q);
         }
     }
     auto ref = road::ReferenceLine::build(pts);
