@@ -1,6 +1,8 @@
 // The ANTLR adapter: lexing, the pre-parse checks (encoding, stray characters, unterminated
 // strings, nesting depth), the parse with capped error recovery, and the parse-tree → AST
 // builder. ANTLR counts positions in code points; the builder maps them to byte offsets.
+// A file is parsed and built a chunk of top-level items at a time, from compact tokens, so that
+// a 10 MB file never holds all its ANTLR tokens or its whole parse tree at once.
 #include "compiler/syntax/parser.h"
 
 #include "compiler/diag/suggest.h"
@@ -11,6 +13,7 @@
 #include <SdvParser.h>
 #include <antlr4-runtime.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -25,11 +28,85 @@ using sdv_antlr::SdvParser;
 
 struct CancelParse : std::exception {};
 
+// The byte offset of every code point, plus one for the end of the text: ANTLR counts code
+// points, diagnostics count bytes. An ASCII text, the usual case, needs no table (40 MB for a
+// 10 MB file): there, code points are bytes.
+class CodePoints {
+public:
+    explicit CodePoints(std::string_view text) : size_(text.size() + 1) {
+        const bool ascii = std::all_of(text.begin(), text.end(), [](char c) {
+            return static_cast<unsigned char>(c) < 0x80;
+        });
+        if (!ascii) {
+            offs_ = code_point_offsets(text);
+            size_ = offs_.size();
+        }
+    }
+
+    size_t size() const { return size_; }
+    uint32_t operator[](size_t cp) const {
+        return offs_.empty() ? static_cast<uint32_t>(cp) : offs_[cp];
+    }
+
+private:
+    size_t size_;
+    std::vector<uint32_t> offs_;
+};
+
+// The source as ANTLR's lexer reads it, code point by code point, decoded from the UTF-8 text
+// in place: ANTLRInputStream would first convert a 10 MB file into a 200 MB UTF-32 string.
+// Same contract as ANTLRInputStream; the text is valid UTF-8 (checked before).
+class Utf8Stream : public antlr4::CharStream {
+public:
+    Utf8Stream(std::string_view text, const CodePoints& cps) : text_(text), cps_(cps) {}
+
+    void consume() override {
+        if (p_ + 1 >= cps_.size()) throw antlr4::IllegalStateException("cannot consume EOF");
+        ++p_;
+    }
+    size_t LA(ssize_t i) override {
+        if (i == 0) return 0;  // undefined
+        const ssize_t at = static_cast<ssize_t>(p_) + (i < 0 ? i : i - 1);
+        if (at < 0 || static_cast<size_t>(at) + 1 >= cps_.size()) return EOF;
+        return decode(cps_[static_cast<size_t>(at)]);
+    }
+    ssize_t mark() override { return -1; }
+    void release(ssize_t) override {}
+    size_t index() override { return p_; }
+    void seek(size_t index) override { p_ = std::min(index, cps_.size() - 1); }
+    size_t size() override { return cps_.size() - 1; }
+    std::string getSourceName() const override { return UNKNOWN_SOURCE_NAME; }
+    std::string getText(const antlr4::misc::Interval& interval) override {
+        const size_t n = cps_.size() - 1;
+        const auto start = static_cast<size_t>(interval.a);
+        if (start >= n) return "";
+        const size_t stop = std::min(static_cast<size_t>(interval.b), n - 1);
+        if (stop < start) return "";
+        return std::string(text_.substr(cps_[start], cps_[stop + 1] - cps_[start]));
+    }
+    std::string toString() const override { return std::string(text_); }
+
+private:
+    size_t decode(size_t byte) const {
+        const auto c = static_cast<unsigned char>(text_[byte]);
+        if (c < 0x80) return c;
+        const size_t n = c >= 0xF0 ? 3 : c >= 0xE0 ? 2 : 1;
+        size_t cp = c & (0x3Fu >> n);
+        for (size_t k = 1; k <= n; ++k) {
+            cp = (cp << 6) | (static_cast<unsigned char>(text_[byte + k]) & 0x3Fu);
+        }
+        return cp;
+    }
+
+    std::string_view text_;
+    const CodePoints& cps_;
+    size_t p_ = 0;
+};
+
 // Reports syntax errors as diagnostics and stops the parse after kMaxSyntaxErrors.
 class ErrorListener : public antlr4::BaseErrorListener {
 public:
-    ErrorListener(diag::FileId file, const std::vector<uint32_t>& offs,
-                  diag::DiagnosticEngine& diags)
+    ErrorListener(diag::FileId file, const CodePoints& offs, diag::DiagnosticEngine& diags)
         : file_(file), offs_(offs), diags_(diags) {}
 
     void syntaxError(antlr4::Recognizer* recognizer, Token* offending, size_t, size_t,
@@ -122,33 +199,44 @@ private:
     }
 
     diag::FileId file_;
-    const std::vector<uint32_t>& offs_;
+    const CodePoints& offs_;
     diag::DiagnosticEngine& diags_;
     int count_ = 0;
     long last_ = -1;
 };
 
-// Builds the owned AST from a parse tree that had no syntax errors.
+// Builds the owned AST from the parse trees of a file that had no syntax errors, one chunk of
+// items at a time. Its own diagnostics wait in `pending` until the whole file has parsed: a file
+// with a syntax error reports only that, as if it had been parsed in one piece.
 class Builder {
 public:
-    Builder(diag::FileId file, const std::vector<uint32_t>& offs, diag::DiagnosticEngine& diags)
-        : file_(file), offs_(offs), diags_(diags) {}
+    Builder(diag::FileId file, const CodePoints& offs, std::vector<diag::Diagnostic>& pending)
+        : file_(file), offs_(offs), pending_(pending) {}
 
-    std::unique_ptr<ast::File> build(SdvParser::FileContext* ctx) {
-        auto f = std::make_unique<ast::File>();
-        f->file = file_;
+    void add(SdvParser::FileContext* ctx, ast::File& f) {
         for (auto* item : ctx->item()) {
-            if (auto* c = item->importDecl()) f->imports.push_back(import_decl(c));
-            if (auto* c = item->roadDecl()) f->roads.push_back(road(c));
-            if (auto* c = item->junctionDecl()) f->junctions.push_back(junction(c));
-            if (auto* c = item->mapDecl()) f->maps.push_back(map(c));
-            if (auto* c = item->treeDecl()) f->trees.push_back(tree(c));
-            if (auto* c = item->scenarioDecl()) f->scenarios.push_back(scenario(c));
+            if (auto* c = item->importDecl()) f.imports.push_back(import_decl(c));
+            if (auto* c = item->roadDecl()) f.roads.push_back(road(c));
+            if (auto* c = item->junctionDecl()) f.junctions.push_back(junction(c));
+            if (auto* c = item->mapDecl()) f.maps.push_back(map(c));
+            if (auto* c = item->treeDecl()) f.trees.push_back(tree(c));
+            if (auto* c = item->scenarioDecl()) f.scenarios.push_back(scenario(c));
         }
-        return f;
     }
 
 private:
+    diag::Diagnostic& error(std::string code, diag::SourceRange range, std::string message) {
+        diag::Diagnostic& d = pending_.emplace_back();
+        d.code = std::move(code);
+        d.range = range;
+        d.message = std::move(message);
+        return d;
+    }
+
+    // The text of a rule that spans one token (ident, number, unitAtom): the token's own,
+    // without RuleContext::getText's string stream.
+    static std::string spelling(antlr4::ParserRuleContext* c) { return c->getStart()->getText(); }
+
     diag::SourceLocation loc(size_t cp) const {
         return {file_, offs_[std::min(cp, offs_.size() - 1)]};
     }
@@ -165,7 +253,7 @@ private:
         return {loc(c->getStart()->getStartIndex()), loc(stop->getStopIndex() + 1)};
     }
 
-    ast::Ident ident(SdvParser::IdentContext* c) { return {c->getText(), range(c)}; }
+    ast::Ident ident(SdvParser::IdentContext* c) { return {spelling(c), range(c)}; }
 
     ast::QualName qual(SdvParser::QualNameContext* c) {
         ast::QualName q;
@@ -203,15 +291,16 @@ private:
 
     // A number token, with overflow reported (E0005) instead of silently becoming inf.
     double number(SdvParser::NumberContext* c) {
-        std::string text;
-        for (char ch : c->getText()) {
-            if (ch != '_') text += ch;
+        const std::string written = spelling(c);
+        std::string digits;
+        for (char ch : written) {
+            if (ch != '_') digits += ch;
         }
         errno = 0;
-        double v = std::strtod(text.c_str(), nullptr);
+        double v = std::strtod(digits.c_str(), nullptr);
         if (errno == ERANGE || !std::isfinite(v)) {
             if (std::isinf(v) || std::fabs(v) > 1.0) {
-                diags_.error("E0005", range(c), "number '" + c->getText() + "' is out of range")
+                error("E0005", range(c), "number '" + written + "' is out of range")
                     .notes.push_back({{}, "numbers must be finite double-precision values "
                                           "(magnitude below 1.8e308)"});
                 v = 0.0;
@@ -225,7 +314,7 @@ private:
     ast::Quantity quantity(SdvParser::QuantityContext* c) {
         ast::Quantity q;
         q.value = number(c->number());
-        q.text = c->number()->getText();
+        q.text = spelling(c->number());
         q.is_integer = c->number()->INT() != nullptr;
         if (c->sign != nullptr && c->sign->getText() == "-") {
             q.value = -q.value;
@@ -243,7 +332,8 @@ private:
         if (u->PERCENT()) return "%";
         std::string out;
         for (auto* child : u->children) {
-            std::string t = child->getText();
+            auto* rule = dynamic_cast<antlr4::ParserRuleContext*>(child);
+            const std::string t = rule != nullptr ? spelling(rule) : child->getText();
             if (t == "²") out += "^2";
             else if (t == "³") out += "^3";
             else if (t == "s2") out += "s^2";
@@ -283,8 +373,8 @@ private:
                 if (sv != nullptr && !sv->spread() && !sv->samples()) {
                     s.method_arg = primary(sv->primary());
                 } else {
-                    diags_.error("E0003", range(v), "syntax error: expected a single quantity "
-                                                    "as the distribution's parameter");
+                    error("E0003", range(v), "syntax error: expected a single quantity "
+                                             "as the distribution's parameter");
                 }
             }
         }
@@ -315,7 +405,9 @@ private:
     std::vector<ast::Arg> args(SdvParser::ArgListContext* c) {
         std::vector<ast::Arg> out;
         if (c == nullptr) return out;
-        for (auto* a : c->arg()) out.push_back({qual(a->qualName()), value(a->value()), range(a)});
+        const auto list = c->arg();
+        out.reserve(list.size());  // an Arg is 1 kB: no spare capacity in a 10 MB file's AST
+        for (auto* a : list) out.push_back({qual(a->qualName()), value(a->value()), range(a)});
         return out;
     }
 
@@ -335,7 +427,7 @@ private:
         for (auto* st : c->roadStmt()) {
             if (auto* s = dynamic_cast<SdvParser::RoadLanesContext*>(st)) {
                 if (!r.lanes.empty()) {
-                    diags_.error("E0504", range(s), "duplicate 'lanes' in road '" + r.name.text + "'");
+                    error("E0504", range(s), "duplicate 'lanes' in road '" + r.name.text + "'");
                     continue;
                 }
                 r.lanes_range = range(s);
@@ -620,7 +712,7 @@ private:
                 s.settings.push_back(std::move(set));
             } else if (auto* rt = dynamic_cast<SdvParser::ScenarioRateContext*>(st)) {
                 ast::Setting set;
-                set.key = {"rate " + rt->ident()->getText(), range(rt->ident())};
+                set.key = {"rate " + spelling(rt->ident()), range(rt->ident())};
                 set.values.push_back(value(rt->value()));
                 set.range = range(rt);
                 s.settings.push_back(std::move(set));
@@ -674,9 +766,62 @@ private:
     }
 
     diag::FileId file_;
-    const std::vector<uint32_t>& offs_;
-    diag::DiagnosticEngine& diags_;
+    const CodePoints& offs_;
+    std::vector<diag::Diagnostic>& pending_;
 };
+
+// A token as the pre-pass and the parser need it: 12 bytes instead of a 112-byte CommonToken
+// behind its own allocation, which for a 10 MB file (millions of tokens) was most of the
+// memory and a good part of the time.
+struct Lexeme {
+    uint32_t type;
+    uint32_t start;  // code points, as ANTLR counts them
+    uint32_t stop;   // inclusive
+};
+
+// The generated lexer, recording the default-channel tokens as lexemes instead of emitting
+// CommonTokens; hidden tokens (white space, comments) are dropped as they come.
+class LexemeLexer : public SdvLexer {
+public:
+    using SdvLexer::SdvLexer;
+
+    // Lexes the whole input; returns the start index of the end of file.
+    size_t lex_all() {
+        for (;;) {
+            if (auto eof = nextToken()) return eof->getStartIndex();  // only EOF is emitted
+        }
+    }
+
+    Token* emit() override {
+        if (type == Token::EOF) return Lexer::emit();  // an empty input's EOF comes this way
+        if (channel == Token::DEFAULT_CHANNEL) {
+            lexemes.push_back({static_cast<uint32_t>(type),
+                               static_cast<uint32_t>(tokenStartCharIndex),
+                               static_cast<uint32_t>(getCharIndex() - 1)});
+        }
+        return nullptr;
+    }
+
+    std::vector<Lexeme> lexemes;
+};
+
+// A CommonTokenStream whose buffer is sized for its tokens up front, instead of growing one
+// token at a time as the parser pulls them.
+class SizedTokenStream : public antlr4::CommonTokenStream {
+public:
+    SizedTokenStream(antlr4::TokenSource* source, size_t tokens) : CommonTokenStream(source) {
+        _tokens.reserve(tokens);
+    }
+};
+
+// Items are parsed and built in chunks of at least this many tokens, so that only one chunk's
+// tokens and parse tree exist at a time.
+constexpr size_t kChunkTokens = 4096;
+
+bool starts_item(size_t type) {
+    return type == SdvLexer::IMPORT || type == SdvLexer::ROAD || type == SdvLexer::JUNCTION ||
+           type == SdvLexer::MAP || type == SdvLexer::TREE || type == SdvLexer::SCENARIO;
+}
 
 }  // namespace
 
@@ -692,107 +837,160 @@ std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& s
             .notes.push_back({{}, ".sdv files are UTF-8 text; is this a binary file?"});
         return nullptr;
     }
-    const std::vector<uint32_t> offs = code_point_offsets(text);
-    auto range_of = [&](Token* t) -> diag::SourceRange {
-        const size_t b = std::min(t->getStartIndex(), offs.size() - 1);
-        const size_t e = std::min(t->getStopIndex() + 1, offs.size() - 1);
+    const CodePoints offs(text);
+    auto range_of = [&](const Lexeme& t) -> diag::SourceRange {
+        const size_t b = std::min<size_t>(t.start, offs.size() - 1);
+        const size_t e = std::min<size_t>(t.stop + size_t{1}, offs.size() - 1);
         return {{file, offs[b]}, {file, offs[std::max(b, e)]}};
+    };
+    // The text is valid UTF-8, so a token's bytes are what ANTLR would decode them to.
+    auto spelling = [&](const Lexeme& t) {
+        return std::string(text.substr(offs[t.start], offs[t.stop + 1] - offs[t.start]));
     };
 
     try {
-        antlr4::ANTLRInputStream input(text.data(), text.size());
-        SdvLexer lexer(&input);
+        Utf8Stream input(text, offs);
+        LexemeLexer lexer(&input);
         lexer.removeErrorListeners();
-        std::vector<std::unique_ptr<Token>> tokens = lexer.getAllTokens();
+        const size_t eof = lexer.lex_all();
+        std::vector<Lexeme> lexemes = std::move(lexer.lexemes);
 
         // Pre-parse pass: report stray characters and unterminated strings once each, drop
         // them from the stream, and refuse pathological nesting before the recursive parser
-        // sees it.
-        std::vector<std::unique_ptr<Token>> kept;
-        kept.reserve(tokens.size() + 1);
+        // sees it. It also marks where chunks may start: at an item keyword after a closing
+        // brace at depth 0, once the chunk has kChunkTokens tokens.
+        size_t kept = 0;
+        std::vector<size_t> chunk_ends;
         int depth = 0;
         int decorators = 0;
         bool lexical_errors = false;
-        for (size_t i = 0; i < tokens.size(); ++i) {
-            auto& t = tokens[i];
-            const size_t type = t->getType();
-            if (type == SdvLexer::ERROR_CHAR) {
+        bool after_close = false;
+        size_t trees = 0;  // at least the trees declared: File::trees is reserved, not doubled
+        for (size_t i = 0; i < lexemes.size(); ++i) {
+            const Lexeme t = lexemes[i];
+            if (t.type == SdvLexer::ERROR_CHAR) {
                 size_t j = i;
-                while (j + 1 < tokens.size() && tokens[j + 1]->getType() == SdvLexer::ERROR_CHAR &&
-                       tokens[j + 1]->getStartIndex() == tokens[j]->getStopIndex() + 1) {
+                while (j + 1 < lexemes.size() && lexemes[j + 1].type == SdvLexer::ERROR_CHAR &&
+                       lexemes[j + 1].start == lexemes[j].stop + 1) {
                     ++j;
                 }
-                diag::SourceRange r{range_of(t.get()).begin, range_of(tokens[j].get()).end};
-                std::string shown = t->getText();
-                diags.error("E0001", r, "unexpected character '" + shown + "'");
+                diag::SourceRange r{range_of(t).begin, range_of(lexemes[j]).end};
+                diags.error("E0001", r, "unexpected character '" + spelling(t) + "'");
                 lexical_errors = true;
                 if (diags.limit_reached()) return nullptr;
                 i = j;
                 continue;
             }
-            if (type == SdvLexer::UNTERMINATED_STRING) {
-                diags.error("E0002", range_of(t.get()), "unterminated string")
+            if (t.type == SdvLexer::UNTERMINATED_STRING) {
+                diags.error("E0002", range_of(t), "unterminated string")
                     .notes.push_back({{}, "add the closing '\"' on the same line"});
                 lexical_errors = true;
                 continue;
             }
-            if (t->getChannel() != Token::DEFAULT_CHANNEL) continue;
-            if (t->getStopIndex() == t->getStartIndex()) {  // brackets are one character
-                const std::string tx = t->getText();
-                if (tx == "{" || tx == "(" || tx == "[") ++depth;
-                if (tx == "}" || tx == ")" || tx == "]") depth = std::max(0, depth - 1);
+            if (depth == 0 && after_close && starts_item(t.type) &&
+                kept - (chunk_ends.empty() ? 0 : chunk_ends.back()) >= kChunkTokens) {
+                chunk_ends.push_back(kept);
             }
-            decorators = (type == SdvLexer::NOT || type == SdvLexer::ONCE || type == SdvLexer::LATCH) ? decorators + 1 : 0;
+            if (depth == 0 && t.type == SdvLexer::TREE) ++trees;
+            // Brackets are one character; the first byte of a longer code point is not ASCII.
+            const char bracket = t.stop == t.start ? text[offs[t.start]] : '\0';
+            if (bracket == '{' || bracket == '(' || bracket == '[') ++depth;
+            if (bracket == '}' || bracket == ')' || bracket == ']') depth = std::max(0, depth - 1);
+            after_close = bracket == '}';
+            const bool decorator = t.type == SdvLexer::NOT || t.type == SdvLexer::ONCE ||
+                                   t.type == SdvLexer::LATCH;
+            decorators = decorator ? decorators + 1 : 0;
             if (depth + decorators > kMaxNesting) {
-                diags.error("E0004", range_of(t.get()),
+                diags.error("E0004", range_of(t),
                             "nesting is too deep (more than " + std::to_string(kMaxNesting) +
                                 " levels)")
                     .notes.push_back({{}, "split the tree into named subtrees"});
                 return nullptr;
             }
-            kept.push_back(std::move(t));
+            lexemes[kept++] = t;
         }
         if (lexical_errors) return nullptr;
-        if (kept.empty()) {
+        if (kept == 0) {
             diags.error("E0008", {{file, 0}, {file, 0}}, "the file declares nothing")
                 .notes.push_back({{}, "a .sdv file holds imports, roads, trees and scenarios"});
             return nullptr;
         }
-        kept.push_back(lexer.nextToken());  // EOF, which getAllTokens() leaves out
+        lexemes.resize(kept);
+        lexemes.shrink_to_fit();  // they stay until the last chunk, next to the whole AST
+        chunk_ends.push_back(kept);
 
-        antlr4::ListTokenSource source(std::move(kept));
-        antlr4::CommonTokenStream stream(&source);
-        SdvParser parser(&stream);
+        // The ANTLR tokens of lexemes [begin, end) and an end of file. Their text is set from
+        // the source, so reading it (the unit predicate, the builder) is a copy. Their line and
+        // column are not kept: everything here places tokens by code point index.
+        const std::pair<antlr4::TokenSource*, antlr4::CharStream*> origin{&lexer, &input};
+        auto tokens = [&](size_t begin, size_t end) {
+            std::vector<std::unique_ptr<Token>> out;
+            out.reserve(end - begin + 1);
+            for (size_t i = begin; i < end; ++i) {
+                const Lexeme& l = lexemes[i];
+                auto t = std::make_unique<antlr4::CommonToken>(
+                    origin, l.type, Token::DEFAULT_CHANNEL, l.start, l.stop);
+                t->setText(spelling(l));
+                out.push_back(std::move(t));
+            }
+            out.push_back(std::make_unique<antlr4::CommonToken>(
+                origin, Token::EOF, Token::DEFAULT_CHANNEL, eof, eof - 1));
+            return out;
+        };
+
+        auto ast = std::make_unique<ast::File>();
+        ast->file = file;
+        ast->trees.reserve(trees);
+        std::vector<diag::Diagnostic> pending;
+        Builder builder(file, offs, pending);
+        SdvParser parser(nullptr);
         parser.removeErrorListeners();
-        ErrorListener listener(file, offs, diags);
-        SdvParser::FileContext* tree = nullptr;
+        auto* interpreter = parser.getInterpreter<antlr4::atn::ParserATNSimulator>();
         // Two stages, as ANTLR recommends: SLL prediction bailing out at the first error (fast,
-        // and exact for every input it accepts), then full LL with error reporting and
-        // recovery only for a file SLL rejects.
-        parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(antlr4::atn::PredictionMode::SLL);
+        // and exact for every input it accepts), chunk by chunk, each chunk's tree built and
+        // freed before the next. A chunk that parses is a sequence of whole items (an item
+        // cannot run on into an item keyword), so it parses as it would inside the whole file.
+        interpreter->setPredictionMode(antlr4::atn::PredictionMode::SLL);
         parser.setErrorHandler(std::make_shared<antlr4::BailErrorStrategy>());
-        try {
-            tree = parser.file();
-        } catch (const antlr4::ParseCancellationException&) {
-            tree = nullptr;
+        size_t begin = 0;
+        for (size_t end : chunk_ends) {
+            antlr4::ListTokenSource source(tokens(begin, end));
+            SizedTokenStream stream(&source, end - begin + 1);
+            parser.setTokenStream(&stream);
+            SdvParser::FileContext* tree = nullptr;
+            try {
+                tree = parser.file();
+            } catch (const antlr4::ParseCancellationException&) {
+                break;
+            }
+            builder.add(tree, *ast);
+            begin = end;
         }
-        if (tree == nullptr) {
-            stream.seek(0);
-            parser.reset();
+        // Then, from the first chunk SLL rejects to the end, full LL with error reporting and
+        // recovery. The chunks before it had no errors, so this reports what one parse of the
+        // whole file would: it starts where that parse would stand, at the start of an item
+        // (the listener only compares token indexes with each other).
+        if (begin < kept) {
+            antlr4::ListTokenSource source(tokens(begin, kept));
+            SizedTokenStream stream(&source, kept - begin + 1);
+            parser.setTokenStream(&stream);
             parser.setErrorHandler(std::make_shared<antlr4::DefaultErrorStrategy>());
-            parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(antlr4::atn::PredictionMode::LL);
+            interpreter->setPredictionMode(antlr4::atn::PredictionMode::LL);
+            ErrorListener listener(file, offs, diags);
+            parser.addErrorListener(&listener);
+            SdvParser::FileContext* tree = nullptr;
+            try {
+                tree = parser.file();
+            } catch (const CancelParse&) {
+                diags.error("E0003", {}, "too many syntax errors in " + std::string(sm.path(file)) +
+                                             "; stopping");
+                return nullptr;
+            }
+            if (listener.count() > 0 || parser.getNumberOfSyntaxErrors() > 0) return nullptr;
+            builder.add(tree, *ast);
         }
-        parser.addErrorListener(&listener);
-        try {
-            if (tree == nullptr) tree = parser.file();
-        } catch (const CancelParse&) {
-            diags.error("E0003", {}, "too many syntax errors in " + std::string(sm.path(file)) +
-                                         "; stopping");
-            return nullptr;
-        }
-        if (listener.count() > 0 || parser.getNumberOfSyntaxErrors() > 0) return nullptr;
-        Builder builder(file, offs, diags);
-        return builder.build(tree);
+        for (auto& d : pending) diags.report(std::move(d));
+        return ast;
     } catch (const std::exception& e) {
         diags.error("E0003", {{file, 0}, {file, 0}},
                     std::string("the parser failed on this file: ") + e.what());
