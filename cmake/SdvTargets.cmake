@@ -36,3 +36,24 @@ function(sdv_unit_test name)
     sdv_warnings(${name})
     add_test(NAME ${name} COMMAND ${name})
 endfunction()
+
+# sdv_foreign_host_test(test...): tests whose host program is not ours (python3 loading
+# libsdv.so through ctypes). In a sanitizer build the library needs the sanitizer runtimes loaded
+# first, which only the environment can do for a foreign executable; leak checking is off there
+# (the interpreter's own allocations live until exit).
+function(sdv_foreign_host_test)
+    if(NOT SDV_SANITIZE)
+        return()
+    endif()
+    set(preload "")
+    foreach(rt asan ubsan)
+        if(SDV_SANITIZE MATCHES "address" AND rt STREQUAL "asan" OR SDV_SANITIZE MATCHES "undefined" AND rt STREQUAL "ubsan")
+            execute_process(COMMAND ${CMAKE_CXX_COMPILER} -print-file-name=lib${rt}.so
+                            OUTPUT_VARIABLE path OUTPUT_STRIP_TRAILING_WHITESPACE)
+            list(APPEND preload ${path})
+        endif()
+    endforeach()
+    list(JOIN preload ":" preload)
+    set_tests_properties(${ARGN} PROPERTIES ENVIRONMENT
+        "LD_PRELOAD=${preload};ASAN_OPTIONS=detect_leaks=0:verify_asan_link_order=0")
+endfunction()
