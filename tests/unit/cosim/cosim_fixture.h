@@ -4,6 +4,9 @@
 
 #include <doctest/doctest.h>
 
+#include <stdlib.h>
+
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -15,6 +18,13 @@
 #include "runtime/cosim/session.h"
 
 namespace sdv::test {
+
+// A fresh private directory under the system's temp directory.
+inline std::string temp_dir() {
+    std::string t = (std::filesystem::temp_directory_path() / "sdv-cosim-XXXXXX").string();
+    REQUIRE(mkdtemp(t.data()) != nullptr);
+    return t;
+}
 
 // tests/cli/data/cosim_highway.sdv: the one scenario of the co-simulation tests (the CLI test
 // runs it too). An external ego, a lead SDV ahead of it and v2 that overtakes it and cuts in;

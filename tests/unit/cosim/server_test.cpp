@@ -18,11 +18,7 @@ using namespace sdv::cosim;
 
 namespace {
 
-std::string temp_dir() {
-    std::string t = (std::filesystem::temp_directory_path() / "sdv-cosim-XXXXXX").string();
-    REQUIRE(mkdtemp(t.data()) != nullptr);
-    return t;
-}
+using sdv::test::temp_dir;
 
 std::string slurp(const std::string& path) {
     std::ifstream in(path, std::ios::binary);

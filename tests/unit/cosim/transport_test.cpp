@@ -12,17 +12,10 @@
 #include <sstream>
 #include <thread>
 
+#include "cosim_fixture.h"
+
 using namespace sdv::cosim;
-
-namespace {
-
-std::string temp_dir() {
-    std::string t = (std::filesystem::temp_directory_path() / "sdv-cosim-XXXXXX").string();
-    REQUIRE(mkdtemp(t.data()) != nullptr);
-    return t;
-}
-
-}  // namespace
+using sdv::test::temp_dir;
 
 TEST_CASE("transport: endpoints") {
     std::string e;
