@@ -32,119 +32,18 @@
 
 #include <unistd.h>
 
+#include "cli/campaign.h"
+#include "cli/common.h"
+#include "runtime/campaign/variants.h"
+#include "runtime/io/junit.h"
+#include "runtime/io/sweep_report.h"
+#include "runtime/ir/bindings.h"
+
 namespace {
 
 using namespace sdv;
 
-constexpr int kOk = 0;
-constexpr int kFailure = 1;
-constexpr int kUsage = 2;
-constexpr int kInternal = 3;
-
-// Warning flags in the compiler style (-Werror, -Werror=NAME, -Wno-NAME, -w) are taken out of
-// argv before CLI11 sees them.
-struct WarningFlags {
-    diag::DiagnosticEngine::WarningPolicy policy;
-    std::vector<std::string> unknown;
-};
-
-const std::vector<std::string> kWarningNames = {"unused-tree", "unused-parameter", "unused-import",
-                                                "no-expectations", "gss-ignored-parameter", "gss-extra-tree"};
-
-WarningFlags extract_warning_flags(std::vector<std::string>& args) {
-    WarningFlags f;
-    std::vector<std::string> rest;
-    for (const auto& a : args) {
-        auto known = [&](const std::string& n) {
-            if (std::find(kWarningNames.begin(), kWarningNames.end(), n) == kWarningNames.end()) {
-                f.unknown.push_back(n);
-            }
-        };
-        if (a == "-Werror") {
-            f.policy.all_errors = true;
-        } else if (a == "-w") {
-            f.policy.disable_all = true;
-        } else if (a.rfind("-Werror=", 0) == 0) {
-            f.policy.promoted.insert(a.substr(8));
-            known(a.substr(8));
-        } else if (a.rfind("-Wno-", 0) == 0) {
-            f.policy.disabled.insert(a.substr(5));
-            known(a.substr(5));
-        } else if (a.rfind("-W", 0) == 0 && a.size() > 2) {
-            known(a.substr(2));  // -Wname: warnings are on by default
-        } else {
-            rest.push_back(a);
-        }
-    }
-    args = std::move(rest);
-    return f;
-}
-
-struct Common {
-    std::string format = "text";
-    std::vector<std::string> import_dirs;
-    std::vector<std::string> btree_path;  // GeoScenario inputs: where .btree files are
-    std::vector<std::string> map_dirs;    // and where maps are
-    bool color = false;
-};
-
-// Writes `text` to `path`; on failure says so on stderr and returns false.
-bool write_file(const std::string& path, std::string_view text) {
-    std::ofstream o(path, std::ios::binary);
-    o << text;
-    if (!o) std::cerr << "sdv: error: cannot write '" << path << "'\n";
-    return static_cast<bool>(o);
-}
-
-// `sdv view` / `sdv plot`: a report built from a run directory (or the error building it), to
-// `out` ('-': stdout); `announce` prints where it went.
-int emit_report(const std::string& text, const std::string& error, const std::string& out, bool announce) {
-    if (!error.empty()) {
-        std::cerr << "sdv: error: " << error << "\n";
-        return kFailure;
-    }
-    if (out == "-") {
-        std::cout << text;
-        return kOk;
-    }
-    if (!write_file(out, text)) return kFailure;
-    if (announce) std::cout << "wrote " << out << "\n";
-    return kOk;
-}
-
-// GeoScenario inputs (.btree, .gs.osm) converted to .sdv text; nullopt after errors.
-std::optional<std::string> convert_input(const std::string& file, const Common& c, const std::string& out_dir,
-                                         diag::SourceManager& sm, diag::DiagnosticEngine& diags) {
-    compiler::gss::ConvertOptions opts{c.btree_path, c.map_dirs, out_dir};
-    auto conv = compiler::gss::is_btree_path(file) ? compiler::gss::convert_btrees({file}, opts, sm, diags)
-                                                   : compiler::gss::convert_geoscenario(file, opts, sm, diags);
-    if (!conv) return std::nullopt;
-    return conv->text;
-}
-
-// Compiles any input: a .sdv file, or a GeoScenario scenario or .btree file through its
-// conversion (so both give the same IR as the converted .sdv).
-compiler::Compilation compile_input(const std::string& file, const Common& c, diag::SourceManager& sm,
-                                    diag::DiagnosticEngine& diags) {
-    compiler::CompileOptions opts{c.import_dirs};
-    if (compiler::gss::is_btree_path(file) || compiler::gss::is_geoscenario_path(file)) {
-        auto text = convert_input(file, c, "", sm, diags);
-        if (!text || diags.has_errors()) return {};
-        return compiler::compile_source(file + ".sdv", *text, sm, diags, opts);
-    }
-    return compiler::compile_file(file, sm, diags, opts);
-}
-
-// Prints diagnostics (text to stderr, JSON to stdout) and returns whether there were errors.
-bool report(diag::DiagnosticEngine& diags, const diag::SourceManager& sm, const Common& c) {
-    const auto all = diags.sorted();
-    if (c.format == "json") {
-        std::cout << diag::render_all_json(all, sm) << "\n";
-    } else if (!all.empty()) {
-        std::cerr << diag::render_all_text(all, sm);
-    }
-    return diags.has_errors();
-}
+using namespace sdv::cli;
 
 std::string summary(const ir::Program& p, const std::string& hash) {
     std::ostringstream out;
@@ -239,6 +138,8 @@ struct RunArgs {
     std::optional<uint64_t> seed;
     int threads = 1;
     bool trace = false, realtime = false, gss_outputs = false, view = false;
+    std::string junit;               // JUnit XML of the expectations
+    std::optional<int64_t> variant;  // run this variant of the scenario's vary block
     // Co-simulation (docs/cosim.md): sdv serves one client at this endpoint.
     std::string cosim, cosim_port_file, cosim_encoding = "binary", cosim_record;
     double cosim_step_timeout = 0, cosim_connect_timeout = 60;
@@ -253,6 +154,10 @@ int write_extras(const RunArgs& args, const std::string& dir, const ir::Program&
             std::cerr << "sdv: error: " << e << "\n";
             return kFailure;
         }
+    }
+    if (!args.junit.empty()) {
+        if (!write_file(args.junit, io::run_junit(program, index, r, args.file))) return kFailure;
+        std::cout << "JUnit report in " << args.junit << "\n";
     }
     if (args.view) {
         std::string error;
@@ -354,57 +259,29 @@ int cmd_run_cosim(const RunArgs& args, ir::Program program, int index, const std
 }
 
 int cmd_run(const RunArgs& args, const Common& c, const WarningFlags& w) {
-    std::optional<ir::Program> program;
-    std::ifstream in(args.file, std::ios::binary);
-    if (!in) {
-        std::cerr << "sdv: error: cannot read '" << args.file << "'\n";
-        return kFailure;
-    }
-    std::stringstream ss;
-    ss << in.rdbuf();
-    const std::string text = ss.str();
-    const bool is_ir = args.file.size() > 6 && args.file.compare(args.file.size() - 6, 6, ".sdvir") == 0;
-    if (compiler::gss::is_geoscenario_path(args.file)) {
-        diag::SourceManager sm;
-        diag::DiagnosticEngine diags(sm);
-        diags.set_policy(w.policy);
-        auto result = compile_input(args.file, c, sm, diags);
-        if (report(diags, sm, c) || !result.program) return kFailure;
-        program = std::move(result.program);
-    } else if (is_ir) {
-        auto r = ir::read_ir(text);
-        if (!r.program) {
-            std::cerr << args.file << ": error: " << r.error << "\n";
+    Loaded loaded;
+    if (const int e = load_scenario(args.file, args.scenario, c, w, loaded); e != kOk) return e;
+    if (args.variant) {
+        ir::Scenario& vs = loaded.program.scenarios[static_cast<size_t>(loaded.index)];
+        const campaign::VariantSpace space(vs.vary);
+        if (*args.variant < 0 || *args.variant >= space.size()) {
+            std::cerr << "sdv: error: scenario '" << vs.name << "' has "
+                      << (vs.vary.empty() ? std::string("no vary block") : std::to_string(space.size()) + " variants (0 to " +
+                                                                              std::to_string(space.size() - 1) + ")")
+                      << "; there is no variant " << *args.variant << "\n";
+            return kUsage;
+        }
+        const auto values = space.values(*args.variant);
+        const auto base = ir::scenario_number_values(loaded.program, loaded.index);
+        if (auto e = ir::apply_variant(loaded.program, loaded.index, base, values); !e.empty()) {
+            std::cerr << "sdv: error: " << e << "\n";
             return kFailure;
         }
-        program = std::move(r.program);
-    } else {
-        diag::SourceManager sm;
-        diag::DiagnosticEngine diags(sm);
-        diags.set_policy(w.policy);
-        compiler::CompileOptions opts{c.import_dirs};
-        auto result = compiler::compile_source(args.file, text, sm, diags, opts);
-        if (report(diags, sm, c) || !result.program) return kFailure;
-        program = std::move(result.program);
+        std::cout << "variant " << *args.variant << ": " << campaign::describe(vs.vary, values) << "\n";
     }
-    if (program->scenarios.empty()) {
-        std::cerr << "sdv: error: '" << args.file << "' has no scenario to run\n";
-        return kFailure;
-    }
-    int index = 0;
-    if (!args.scenario.empty()) {
-        index = -1;
-        for (size_t i = 0; i < program->scenarios.size(); ++i) {
-            if (program->scenarios[i].name == args.scenario) index = static_cast<int>(i);
-        }
-        if (index < 0) {
-            std::cerr << "sdv: error: no scenario '" << args.scenario << "' in '" << args.file << "'\n";
-            return kFailure;
-        }
-    } else if (program->scenarios.size() > 1) {
-        std::cerr << "sdv: error: '" << args.file << "' has several scenarios; choose one with --scenario\n";
-        return kUsage;
-    }
+    std::optional<ir::Program> program = std::move(loaded.program);
+    const int index = loaded.index;
+    const std::string& text = loaded.text;
     const ir::Scenario& sc = program->scenarios[static_cast<size_t>(index)];
     if (!args.cosim.empty()) return cmd_run_cosim(args, std::move(*program), index, text);
     for (const auto& v : sc.vehicles) {
@@ -750,6 +627,10 @@ int run(int argc, char** argv) {
     run_cmd->add_flag("--trace", run_args.trace, "write decisions.jsonl (every planning decision)");
     run_cmd->add_flag("--realtime", run_args.realtime, "pace the run to the wall clock");
     run_cmd->add_flag("--view", run_args.view, "also write DIR/report.html (see `sdv view`)");
+    run_cmd->add_option("--junit", run_args.junit, "also write the expectations as JUnit XML to this file");
+    int64_t variant_value = 0;
+    auto* variant_opt = run_cmd->add_option("--variant", variant_value,
+                                            "run variant K of the scenario's vary block (as `sdv sweep` numbers them)");
     run_cmd->add_flag("--gss-outputs", run_args.gss_outputs,
                       "also write GeoScenario's violations.json and trajectory_v<id>.csv");
     auto* cosim_opt = run_cmd->add_option("--cosim", run_args.cosim,
@@ -809,9 +690,36 @@ int run(int argc, char** argv) {
 
     std::string check_file;
     std::string view_dir, view_out;
+    SweepArgs sweep_args;
+    auto* sweep_cmd = app.add_subcommand("sweep", "run every variant of a scenario's vary block in parallel; one row per "
+                                                  "variant in DIR/results.csv, counts in DIR/summary.json; exit 1 when a "
+                                                  "variant fails");
+    sweep_cmd->add_option("file", sweep_args.file, ".sdv or .sdvir file with a vary block")->required();
+    sweep_cmd->add_option("-o,--output", sweep_args.out, "output directory (default out/<scenario>-sweep)");
+    sweep_cmd->add_option("--scenario", sweep_args.scenario, "which scenario of the file");
+    sweep_cmd->add_option("-j,--jobs", sweep_args.jobs, "variants run at once (default: every core; results do not depend on it)")
+        ->check(CLI::Range(1, 1024));
+    sweep_cmd->add_flag("--resume", sweep_args.resume, "keep the rows already in DIR and run only the missing variants");
+    sweep_cmd->add_option("--keep", sweep_args.keep, "which variants keep a run directory DIR/runs/<variant> with view.html: "
+                                                     "none (default), failed or runs (all)")
+        ->check(CLI::IsMember({"none", "failed", "runs"}));
+    sweep_cmd->add_flag("--report", sweep_args.report, "also write DIR/report.html (heat map, scatter or parallel coordinates)");
+    sweep_cmd->add_option("--junit", sweep_args.junit, "also write JUnit XML: a test suite per variant, a case per expectation");
+    sweep_cmd->add_option("--slice", sweep_args.slice, "run only slice I of K (I/K), as a Slurm array task does; "
+                                                       "results are written once every slice is in (--resume)");
+    auto* slurm_opt = sweep_cmd->add_flag("--slurm", sweep_args.slurm, "run the slices as one Slurm job array, wait, and merge");
+    sweep_cmd->add_option("--array-tasks", sweep_args.array_tasks, "Slurm array tasks (default 4)")
+        ->check(CLI::Range(1, 10000))
+        ->needs(slurm_opt);
+    sweep_cmd->add_option("--partition", sweep_args.partition, "Slurm partition (default: the cluster's)")->needs(slurm_opt);
+    sweep_cmd->add_flag("--slurm-script-only", sweep_args.slurm_script_only,
+                        "write DIR/slurm/sweep.sbatch and stop (submit it yourself, then --resume to merge)")
+        ->needs(slurm_opt);
+    add_common(sweep_cmd);
+
     auto* view_cmd = app.add_subcommand("view", "one self-contained HTML report of a run (map, playback, charts, "
                                                 "timeline, expectations, decisions); opens offline");
-    view_cmd->add_option("run_dir", view_dir, "a run output directory (sdv run -o; --trace adds the decisions)")->required();
+    view_cmd->add_option("run_dir", view_dir, "a run output directory (sdv run -o; --trace adds the decisions), or a sweep's (sdv sweep -o)")->required();
     view_cmd->add_option("-o,--output", view_out, "HTML file (default RUN_DIR/report.html; '-' for stdout)");
 
     std::string convert_file, convert_out;
@@ -845,9 +753,12 @@ int run(int argc, char** argv) {
     if (compile->parsed()) return cmd_compile(compile_file, compile_out, emit, common, warnings);
     if (cat->parsed()) return cmd_catalog(catalog_format);
     if (convert_cmd->parsed()) return cmd_convert(convert_file, convert_out, common, warnings);
+    if (sweep_cmd->parsed()) return cmd_sweep(sweep_args, common, warnings);
     if (view_cmd->parsed()) {
         std::string error;
-        const std::string html = io::view_report(view_dir, error);
+        // A sweep directory gets the sweep's report; a run directory the run's.
+        const bool sweep = std::filesystem::exists(std::filesystem::path(view_dir) / "results.csv");
+        const std::string html = sweep ? io::sweep_report(view_dir, error) : io::view_report(view_dir, error);
         const std::string out = view_out.empty() ? (std::filesystem::path(view_dir) / "report.html").string() : view_out;
         return emit_report(html, error, out, true);
     }
@@ -862,6 +773,7 @@ int run(int argc, char** argv) {
     if (replay_cmd->parsed()) return cmd_replay_cosim(replay_file, replay_out, common);
     if (run_cmd->parsed()) {
         if (seed_opt->count() > 0) run_args.seed = seed_value;
+        if (variant_opt->count() > 0) run_args.variant = variant_value;
         return cmd_run(run_args, common, warnings);
     }
     if (check_ir->parsed()) {

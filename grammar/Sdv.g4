@@ -101,6 +101,19 @@ scenarioStmt
     | OBJECT ident '{' vehicleStmt* '}'                   # scenarioObject
     | LIGHT qualName '{' lightStmt* '}'                   # scenarioLight
     | EXPECT expr window?                                 # scenarioExpect
+    | VARY '{' varyStmt* '}'                              # scenarioVary
+    ;
+
+// A campaign: the parameters a sweep varies and how it samples them (docs/campaigns.md).
+varyStmt
+    : qualName IN varyDomain                              # varyParam
+    | SAMPLE ident INT?                                   # varySample
+    | SEED INT                                            # varySeed
+    ;
+varyDomain
+    : '[' primary (',' primary)* ']'                      # varySet
+    | primary '..' primary (COUNT INT)?                   # varyRange
+    | ident '(' primary ',' primary ')'                   # varyDistribution
     ;
 
 vehicleStmt
@@ -144,7 +157,7 @@ ident
     | MANEUVER | SUBTREE | FALLBACK | SEQUENCE | REACTIVE_SEQUENCE | PARALLEL | NOT | ONCE | LATCH
     | SAMPLES | SCENARIO | TIMEOUT | SEED | RATE | EGO | VEHICLE | OBJECT | LIGHT | EXPECT
     | START | SPEED | LENGTH | WIDTH | GOAL | ROUTE | TRAJECTORY | AT | OFFSET | LANE | AND | OR
-    | LEFT | RIGHT | ENDS | RUN | DURING | AFTER | BEFORE
+    | LEFT | RIGHT | ENDS | RUN | DURING | AFTER | BEFORE | VARY | IN | SAMPLE | COUNT
     ;
 
 // ---------------------------------------------------------------- lexer
@@ -204,6 +217,10 @@ RUN : 'run' ;
 DURING : 'during' ;
 AFTER : 'after' ;
 BEFORE : 'before' ;
+VARY : 'vary' ;
+IN : 'in' ;
+SAMPLE : 'sample' ;
+COUNT : 'count' ;
 
 PLUSMINUS : '±' | '+-' ;
 SUP2 : '²' ;

@@ -110,6 +110,24 @@ public:
                 if (e->window) t += " " + e->window->keyword.text + " " + value(e->window->value);
                 line(1, e->range, t);
             }
+            for (const auto& va : s.varies) {
+                line(1, va.range, "vary");
+                for (const auto& p : va.params) {
+                    std::string t = p.path.str() + " in ";
+                    if (p.kind == VaryParam::Kind::set) {
+                        t += "[";
+                        for (size_t i = 0; i < p.values.size(); ++i) t += (i ? ", " : "") + primary(p.values[i]);
+                        t += "]";
+                    } else if (p.kind == VaryParam::Kind::range) {
+                        t += primary(p.values[0]) + " .. " + primary(p.values[1]);
+                        if (p.count) t += " count " + std::to_string(*p.count);
+                    } else {
+                        t += p.distribution.text + "(" + primary(p.values[0]) + ", " + primary(p.values[1]) + ")";
+                    }
+                    line(2, p.range, t);
+                }
+                for (const auto& st : va.settings) setting(2, st);
+            }
         }
         return out_.str();
     }

@@ -255,12 +255,33 @@ struct Expr {
     std::optional<Window> window;
 };
 
+// One varied parameter of a `vary` block: a path naming a value of the scenario or of a
+// vehicle's tree call, and its domain.
+struct VaryParam {
+    QualName path;                  // `v2.speed`, `v2.tree.accept_gap`, `seed`
+    enum class Kind { set, range, distribution } kind = Kind::set;
+    std::vector<Primary> values;    // set: `[a, b, c]`; range: lo, hi; distribution: its two arguments
+    std::optional<int64_t> count;   // range: `count N` (-1 when too large to read)
+    SourceRange count_range;
+    Ident distribution;             // distribution: normal | uniform
+    SourceRange domain_range;       // what follows `in`
+    SourceRange range;
+};
+
+struct VaryDecl {
+    std::vector<VaryParam> params;
+    std::vector<Setting> settings;  // sample METHOD [N], seed N (in order)
+    SourceRange keyword_range;
+    SourceRange range;
+};
+
 struct ScenarioDecl {
     Ident name;
     std::vector<Setting> settings;  // road NAME, timeout, seed, rate NAME VALUE
     std::vector<VehicleDecl> vehicles;
     std::vector<LightDecl> lights;
     std::vector<std::unique_ptr<Expr>> expects;
+    std::vector<VaryDecl> varies;  // more than one is an error
     SourceRange range;
 };
 

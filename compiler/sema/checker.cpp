@@ -56,7 +56,7 @@ Compilation Checker::run(const std::string& display, std::string text) {
         for (const auto& s : u.file->scenarios) check_scenario(s, program);
     }
     warn_unused();
-    if (diags_.has_errors()) return out;
+    if (diags_->has_errors()) return out;
     out.program = std::move(program);
     return out;
 }
@@ -68,7 +68,7 @@ diag::Diagnostic* Checker::error(const std::string& code, SourceRange r, const s
     auto key = std::make_tuple(code, r.begin.file, r.begin.offset, std::string());
     (void)msg;
     if (!reported_.insert(key).second) return &scratch_;
-    return &diags_.error(code, r, msg);
+    return &diags_->error(code, r, msg);
 }
 
 ir::SourceLoc Checker::loc(SourceRange r) const {

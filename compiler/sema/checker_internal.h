@@ -127,7 +127,7 @@ struct Eval {
 class Checker {
 public:
     Checker(diag::SourceManager& sm, diag::DiagnosticEngine& diags, const CompileOptions& options)
-        : sm_(sm), diags_(diags), options_(options) {}
+        : sm_(sm), diags_(&diags), options_(options) {}
 
     Compilation run(const std::string& display, std::string text);
 
@@ -222,6 +222,16 @@ private:
     // The window of an `expect` statement (its root expression `e`, lowered at `root`).
     void check_window(const ast::Expr& e, int32_t root, ScenarioCtx& ctx);
 
+    // ---------------------------------------------------------------- campaigns (vary.cpp)
+    struct VaryTarget;
+    void check_vary(const ast::ScenarioDecl& s, ir::Program& program, size_t index, size_t instances_before);
+    std::vector<std::string> vary_paths(const ast::ScenarioDecl& s);
+    std::optional<VaryTarget> vary_target(const ast::VaryParam& vp, const ast::ScenarioDecl& s);
+    ast::Value* vary_slot(const VaryTarget& t, ast::ScenarioDecl& s, SourceRange where);
+    bool probe_bindings(const ast::ScenarioDecl& s, const ast::VaryParam& vp, const VaryTarget& target,
+                        const std::vector<std::pair<double, SourceRange>>& probes, const ir::Program& probe_base,
+                        size_t index, const std::vector<double>& base, ir::VaryParam& out);
+
     // ---------------------------------------------------------------- expansion (expand.cpp)
     int32_t expand_vehicle_tree(const ast::TreeRef& ref, ScenarioCtx& ctx, ir::Program& program);
     Env bind(const TreeSym& t, const std::vector<ast::Arg>& args, const Env* caller_env,
@@ -234,7 +244,7 @@ private:
     void check_candidate_counts(const ir::TreeInstance& inst, const ast::TreeRef& ref);
 
     diag::SourceManager& sm_;
-    diag::DiagnosticEngine& diags_;
+    diag::DiagnosticEngine* diags_;  // swapped while probing a campaign (vary.cpp)
     const CompileOptions& options_;
     std::vector<Unit> units_;
     std::map<diag::FileId, std::unique_ptr<ast::File>> owned_;

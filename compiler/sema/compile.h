@@ -38,4 +38,13 @@ Compilation compile_source(const std::string& display_path, std::string text,
                            diag::SourceManager& sm, diag::DiagnosticEngine& diags,
                            const CompileOptions& options = {});
 
+// The source `text` of `display` with scenario `scenario`'s vary block replaced by fixed
+// values: each (path, value with unit) written where the scenario states that value, or added
+// where it would be written; `comment` (one line) takes the vary block's place. nullopt with
+// `error` when the text does not parse or a path has no place. (sdv search writes its worst
+// case with this.)
+std::optional<std::string> concretize(const std::string& display, const std::string& text, const std::string& scenario,
+                                      const std::vector<std::pair<std::string, std::string>>& values,
+                                      const std::string& comment, std::string& error);
+
 }  // namespace sdv::compiler

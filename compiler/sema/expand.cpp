@@ -14,10 +14,10 @@ int32_t Checker::expand_vehicle_tree(const ast::TreeRef& ref, ScenarioCtx& ctx,
     TreeSym* t = check_subtree_ref(ref.name, ref.args, caller, ref.range);
     if (t == nullptr || !t->ok || cyclic_.count(tree_index_[t->qname])) return -1;
     ir::TreeInstance inst;
-    const size_t errors_before = diags_.error_count();
+    const size_t errors_before = diags_->error_count();
     Env env = bind(*t, ref.args, &caller, caller);
     if (t->decl->body.size() == 1) expand_node(*t->decl->body[0], env, ctx, inst, t->qname);
-    if (diags_.error_count() != errors_before || inst.nodes.empty()) return -1;
+    if (diags_->error_count() != errors_before || inst.nodes.empty()) return -1;
     check_candidate_counts(inst, ref);
     program.instances.push_back(std::move(inst));
     return static_cast<int32_t>(program.instances.size() - 1);

@@ -38,7 +38,7 @@ void Checker::load(const std::string& display, std::string text, fs::path dir,
     u.dir = std::move(dir);
     u.is_main = is_main;
     u.is_stdlib = is_stdlib;
-    auto parsed = syntax::parse(id, sm_, diags_);
+    auto parsed = syntax::parse(id, sm_, *diags_);
     u.file = parsed.get();
     owned_[id] = std::move(parsed);
     units_.push_back(u);

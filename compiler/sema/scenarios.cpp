@@ -13,6 +13,8 @@
 namespace sdv::compiler::sema {
 
 void Checker::check_scenario(const ast::ScenarioDecl& s, ir::Program& program) {
+    const size_t errors_before = diags_->error_count();
+    const size_t instances_before = program.instances.size();
     ir::Scenario sc;
     sc.name = s.name.text;
     sc.loc = loc(s.name.range);
@@ -99,6 +101,10 @@ void Checker::check_scenario(const ast::ScenarioDecl& s, ir::Program& program) {
         if (e->window) check_window(*e, sc.expect_roots.back(), ctx);
     }
     program.scenarios.push_back(std::move(sc));
+    // A campaign is checked on a scenario that is valid as written: its probes are variants of it.
+    if (!s.varies.empty() && diags_->error_count() == errors_before) {
+        check_vary(s, program, program.scenarios.size() - 1, instances_before);
+    }
 }
 
 ir::Position Checker::check_position(const ast::Position& p, const ScenarioCtx& ctx,

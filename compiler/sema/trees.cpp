@@ -450,12 +450,12 @@ void Checker::warn_unused() {
     for (auto& t : trees_) {
         if (!t.unit->is_main) continue;
         if (!t.used && !main->scenarios.empty()) {
-            diags_.warning("W0101", "unused-tree", t.decl->name.range,
+            diags_->warning("W0101", "unused-tree", t.decl->name.range,
                            "tree '" + t.qname + "' is never used");
         }
         for (const auto& p : t.decl->params) {
             if (!t.used_params.count(p.name.text)) {
-                diags_.warning("W0102", "unused-parameter", p.name.range,
+                diags_->warning("W0102", "unused-parameter", p.name.range,
                                "parameter '" + p.name.text + "' of tree '" + t.qname +
                                    "' is never used");
             }
@@ -474,14 +474,14 @@ void Checker::warn_unused() {
                 }
             }
             if (!used && !main->scenarios.empty()) {
-                diags_.warning("W0103", "unused-import", imp.path_range,
+                diags_->warning("W0103", "unused-import", imp.path_range,
                                "nothing from '" + imp.path + "' is used");
             }
         }
     }
     for (const auto& s : main->scenarios) {
         if (s.expects.empty()) {
-            diags_.warning("W0104", "no-expectations", s.name.range,
+            diags_->warning("W0104", "no-expectations", s.name.range,
                            "scenario '" + s.name.text + "' has no expect statements; its run always passes");
         }
     }

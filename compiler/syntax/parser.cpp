@@ -760,9 +760,77 @@ private:
                     e->window = std::move(win);
                 }
                 s.expects.push_back(std::move(e));
+            } else if (auto* va = dynamic_cast<SdvParser::ScenarioVaryContext*>(st)) {
+                s.varies.push_back(vary(va));
             }
         }
         return s;
+    }
+
+    static std::optional<int64_t> int_token(antlr4::tree::TerminalNode* t) {
+        errno = 0;
+        const long long n = std::strtoll(t->getText().c_str(), nullptr, 10);
+        return errno == ERANGE ? -1 : n;  // the checker reports out-of-range counts
+    }
+
+    ast::VaryDecl vary(SdvParser::ScenarioVaryContext* c) {
+        ast::VaryDecl out;
+        out.keyword_range = range(c->VARY());
+        out.range = range(c);
+        for (auto* st : c->varyStmt()) {
+            if (auto* p = dynamic_cast<SdvParser::VaryParamContext*>(st)) {
+                ast::VaryParam vp;
+                vp.path = qual(p->qualName());
+                vp.range = range(p);
+                vp.domain_range = range(p->varyDomain());
+                if (auto* set = dynamic_cast<SdvParser::VarySetContext*>(p->varyDomain())) {
+                    vp.kind = ast::VaryParam::Kind::set;
+                    for (auto* x : set->primary()) vp.values.push_back(primary(x));
+                } else if (auto* r = dynamic_cast<SdvParser::VaryRangeContext*>(p->varyDomain())) {
+                    vp.kind = ast::VaryParam::Kind::range;
+                    vp.values.push_back(primary(r->primary(0)));
+                    vp.values.push_back(primary(r->primary(1)));
+                    if (r->COUNT()) {
+                        vp.count = int_token(r->INT());
+                        vp.count_range = range(r->INT());
+                    }
+                } else if (auto* d = dynamic_cast<SdvParser::VaryDistributionContext*>(p->varyDomain())) {
+                    vp.kind = ast::VaryParam::Kind::distribution;
+                    vp.distribution = ident(d->ident());
+                    vp.values.push_back(primary(d->primary(0)));
+                    vp.values.push_back(primary(d->primary(1)));
+                }
+                out.params.push_back(std::move(vp));
+            } else if (auto* sm = dynamic_cast<SdvParser::VarySampleContext*>(st)) {
+                ast::Setting set;
+                set.key = {"sample", range(sm->SAMPLE())};
+                ast::Value method;
+                method.lo.kind = ast::Primary::Kind::name;
+                method.lo.name.parts.push_back(ident(sm->ident()));
+                method.lo.name.range = method.lo.range = method.range = range(sm->ident());
+                set.values.push_back(std::move(method));
+                if (sm->INT() != nullptr) set.values.push_back(int_value(sm->INT()));
+                set.range = range(sm);
+                out.settings.push_back(std::move(set));
+            } else if (auto* sd = dynamic_cast<SdvParser::VarySeedContext*>(st)) {
+                ast::Setting set;
+                set.key = {"seed", range(sd->SEED())};
+                set.values.push_back(int_value(sd->INT()));
+                set.range = range(sd);
+                out.settings.push_back(std::move(set));
+            }
+        }
+        return out;
+    }
+
+    ast::Value int_value(antlr4::tree::TerminalNode* t) {
+        ast::Value v;
+        v.lo.kind = ast::Primary::Kind::quantity;
+        v.lo.quantity.text = t->getText();
+        v.lo.quantity.value = std::strtod(v.lo.quantity.text.c_str(), nullptr);
+        v.lo.quantity.is_integer = true;
+        v.lo.range = v.range = range(t);
+        return v;
     }
 
     diag::FileId file_;

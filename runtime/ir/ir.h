@@ -183,6 +183,44 @@ struct Expect {
     SourceLoc loc;
 };
 
+// A campaign (`vary` block): the parameters a sweep varies, their domains, and how each one
+// reaches the IR. A variant's IR is the scenario's IR plus bindings: for every binding,
+// number(index) += scale * value + offset - base, where number(i) enumerates the scenario's
+// numbers in the order of ir::scenario_numbers (runtime/ir/bindings.h) and base is the number
+// in the IR as compiled. The checker finds the bindings by compiling the scenario at several
+// values of the parameter and proves them linear there.
+struct VaryBinding {
+    int32_t number = -1;  // index into scenario_numbers()
+    double scale = 0.0;
+    double offset = 0.0;
+    friend bool operator==(const VaryBinding&, const VaryBinding&) = default;
+};
+
+struct VaryParam {
+    std::string name;     // the path as written: "v2.tree.accept_gap"
+    std::string unit;     // SI unit of the values ("m", "m/s"; empty: plain number)
+    std::string domain;   // as written: "2 m .. 10 m count 5"
+    enum class Kind { set, range, normal, uniform } kind = Kind::set;
+    std::vector<double> values;  // set: its elements (SI)
+    double lo = 0.0, hi = 0.0;   // range and uniform: bounds; normal: truncated at mean ± 3 sd
+    int32_t count = 0;           // range: number of levels (0: continuous)
+    double mean = 0.0, sd = 0.0; // normal
+    bool integer = false;        // values are whole numbers (seeds)
+    bool seed = false;           // binds the scenario's seed (no number bindings)
+    std::vector<VaryBinding> bindings;
+    SourceLoc loc;
+    friend bool operator==(const VaryParam&, const VaryParam&) = default;
+};
+
+struct Vary {
+    enum class Sample { grid, random, latin } sample = Sample::grid;
+    int64_t count = 0;  // random / latin: number of variants
+    uint64_t seed = 0;  // of the sampler
+    std::vector<VaryParam> params;
+    SourceLoc loc;
+    bool empty() const { return params.empty(); }
+};
+
 struct Scenario {
     std::string name;
     int32_t road = -1;  // index into Program::roads
@@ -196,6 +234,7 @@ struct Scenario {
     std::vector<LightProgram> lights;
     std::vector<Expect> expects;
     std::vector<int32_t> expect_roots;  // one per `expect` statement
+    Vary vary;                          // empty: a single run
     SourceLoc loc;
 };
 

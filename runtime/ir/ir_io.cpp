@@ -4,6 +4,8 @@
 // where the file is wrong ("program.instances[2].nodes[5].children[0]: index 99 out of range").
 #include "runtime/ir/ir_io.h"
 
+#include "runtime/ir/bindings.h"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -18,6 +20,8 @@ const char* kNodeKinds[] = {"fallback", "sequence", "reactive_sequence", "parall
                             "condition", "maneuver", "not", "once", "latch"};
 const char* kRoadKinds[] = {"road", "junction", "lanelet2"};
 const char* kVehicleKinds[] = {"sdv", "trajectory", "static", "external"};
+const char* kVaryKinds[] = {"set", "range", "normal", "uniform"};
+const char* kVarySamples[] = {"grid", "random", "latin"};
 const char* kMethods[] = {"linear", "uniform", "normal"};
 const char* kRefKinds[] = {"none", "self", "vehicle", "zone"};
 const char* kExpectKinds[] = {"not", "and", "or", "call"};
@@ -233,6 +237,34 @@ Json program_json(const Program& p) {
             sj["expects"].push_back(ej);
         }
         sj["expect_roots"] = s.expect_roots;
+        if (!s.vary.empty()) {  // absent for a single run: IR hashes of plain scenarios stay as they were
+            Json vj;
+            vj["sample"] = kVarySamples[static_cast<int>(s.vary.sample)];
+            vj["count"] = s.vary.count;
+            vj["seed"] = s.vary.seed;
+            vj["loc"] = loc_json(s.vary.loc);
+            vj["params"] = Json::array();
+            for (const auto& vp : s.vary.params) {
+                Json pj;
+                pj["name"] = vp.name;
+                pj["unit"] = vp.unit;
+                pj["domain"] = vp.domain;
+                pj["kind"] = kVaryKinds[static_cast<int>(vp.kind)];
+                pj["values"] = vp.values;
+                pj["lo"] = vp.lo;
+                pj["hi"] = vp.hi;
+                pj["count"] = vp.count;
+                pj["mean"] = vp.mean;
+                pj["sd"] = vp.sd;
+                pj["integer"] = vp.integer;
+                pj["seed"] = vp.seed;
+                pj["bindings"] = Json::array();
+                for (const auto& b : vp.bindings) pj["bindings"].push_back({b.number, b.scale, b.offset});
+                pj["loc"] = loc_json(vp.loc);
+                vj["params"].push_back(pj);
+            }
+            sj["vary"] = vj;
+        }
         j["scenarios"].push_back(sj);
     }
     return j;
@@ -508,7 +540,14 @@ public:
             p.roads.push_back(std::move(r));
         }
         const Json& scenarios = array(field(j, "scenarios", root), root + ".scenarios");
-        for (size_t i = 0; i < scenarios.size(); ++i) p.scenarios.push_back(scenario(scenarios[i], root + ".scenarios[" + std::to_string(i) + "]", p));
+        for (size_t i = 0; i < scenarios.size(); ++i) {
+            const std::string sp = root + ".scenarios[" + std::to_string(i) + "]";
+            p.scenarios.push_back(scenario(scenarios[i], sp, p));
+            if (has(scenarios[i], "vary")) {
+                p.scenarios.back().vary = vary(scenarios[i]["vary"], sp + ".vary", p.files.size(),
+                                               scenario_number_values(p, static_cast<int>(i)).size());
+            }
+        }
         return p;
     }
 
@@ -625,6 +664,57 @@ public:
         }
         vehicle_refs_.clear();
         return s;
+    }
+
+    Vary vary(const Json& j, const std::string& vp, size_t nf, size_t numbers) {
+        Vary v;
+        if (!j.is_object()) fail(vp + ": expected an object");
+        v.sample = static_cast<Vary::Sample>(enumeration(field(j, "sample", vp), kVarySamples, vp + ".sample"));
+        v.count = integer(field(j, "count", vp), vp + ".count", 0, int64_t{1} << 40);
+        if (v.sample != Vary::Sample::grid && v.count < 1) fail(vp + ".count: random and latin sampling need a count");
+        const Json& seed = field(j, "seed", vp);
+        if (!seed.is_number_unsigned() && !(seed.is_number_integer() && seed.get<int64_t>() >= 0)) fail(vp + ".seed: expected an unsigned integer");
+        v.seed = seed.get<uint64_t>();
+        v.loc = loc(field(j, "loc", vp), vp + ".loc", nf);
+        const Json& params = array(field(j, "params", vp), vp + ".params");
+        if (params.empty()) fail(vp + ".params: a campaign varies at least one parameter");
+        for (size_t i = 0; i < params.size(); ++i) {
+            const std::string pp = vp + ".params[" + std::to_string(i) + "]";
+            const Json& pj = params[i];
+            VaryParam p;
+            p.name = string(field(pj, "name", pp), pp + ".name");
+            p.unit = string(field(pj, "unit", pp), pp + ".unit");
+            p.domain = string(field(pj, "domain", pp), pp + ".domain");
+            p.kind = static_cast<VaryParam::Kind>(enumeration(field(pj, "kind", pp), kVaryKinds, pp + ".kind"));
+            const Json& values = array(field(pj, "values", pp), pp + ".values");
+            for (size_t k = 0; k < values.size(); ++k) p.values.push_back(number(values[k], pp + ".values"));
+            p.lo = number(field(pj, "lo", pp), pp + ".lo");
+            p.hi = number(field(pj, "hi", pp), pp + ".hi");
+            p.count = static_cast<int32_t>(integer(field(pj, "count", pp), pp + ".count", 0, 1000000));
+            p.mean = number(field(pj, "mean", pp), pp + ".mean");
+            p.sd = number(field(pj, "sd", pp), pp + ".sd");
+            p.integer = boolean(field(pj, "integer", pp), pp + ".integer");
+            p.seed = boolean(field(pj, "seed", pp), pp + ".seed");
+            if (p.kind == VaryParam::Kind::set && p.values.empty()) fail(pp + ".values: an empty set");
+            if (p.kind != VaryParam::Kind::set && !(p.lo <= p.hi)) fail(pp + ": empty range");
+            if (p.kind == VaryParam::Kind::normal && !(p.sd > 0)) fail(pp + ".sd: must be positive");
+            if (v.sample == Vary::Sample::grid && p.kind != VaryParam::Kind::set &&
+                !(p.kind == VaryParam::Kind::range && p.count > 0)) {
+                fail(pp + ": a grid needs a set or a range with a count");
+            }
+            const Json& bindings = array(field(pj, "bindings", pp), pp + ".bindings");
+            for (size_t k = 0; k < bindings.size(); ++k) {
+                const std::string bp = pp + ".bindings[" + std::to_string(k) + "]";
+                const Json& b = array(bindings[k], bp);
+                if (b.size() != 3) fail(bp + ": expected [number, scale, offset]");
+                p.bindings.push_back({static_cast<int32_t>(integer(b[0], bp + "[0]", 0, static_cast<int64_t>(numbers) - 1)),
+                                      number(b[1], bp + "[1]"), number(b[2], bp + "[2]")});
+            }
+            if (!p.seed && p.bindings.empty()) fail(pp + ": binds nothing");
+            p.loc = loc(field(pj, "loc", pp), pp + ".loc", nf);
+            v.params.push_back(std::move(p));
+        }
+        return v;
     }
 
 private:
