@@ -5,15 +5,18 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <thread>
 
+#include "runtime/campaign/search.h"
 #include "runtime/campaign/slurm.h"
 #include "runtime/campaign/sweep.h"
 #include "runtime/campaign/variants.h"
 #include "runtime/io/sweep_report.h"
+#include "runtime/ir/bindings.h"
 
 namespace sdv::cli {
 namespace fs = std::filesystem;
@@ -236,6 +239,120 @@ int cmd_sweep(const SweepArgs& a, const Common& c, const WarningFlags& w) {
     }
     if (outcome.skipped > 0) std::cout << "resumed: " << outcome.skipped << " of " << total << " variants were done\n";
     return finish_sweep(l, a, o);
+}
+
+}  // namespace sdv::cli
+
+namespace sdv::cli {
+namespace {
+
+std::string number_text(double v) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.10g", v);
+    return buf;
+}
+
+}  // namespace
+
+int cmd_search(const SearchArgs& a, const Common& c, const WarningFlags& w) {
+    Loaded l;
+    if (const int e = load_scenario(a.file, a.scenario, c, w, l); e != kOk) return e;
+    if (const int e = check_campaign(l, a.file); e != kOk) return e;
+    const ir::Scenario& sc = l.program.scenarios[static_cast<size_t>(l.index)];
+    if (a.minimize.empty() == a.maximize.empty()) {
+        std::cerr << "sdv: error: give the metric to search for with --minimize or --maximize (one of them), "
+                     "e.g. --minimize 'min_ttc(ego, v2)'\n";
+        return kUsage;
+    }
+    campaign::SearchOptions o;
+    o.maximize = !a.maximize.empty();
+    std::string error;
+    auto metric = campaign::parse_metric(sc, o.maximize ? a.maximize : a.minimize, error);
+    if (!metric) {
+        std::cerr << "sdv: error: " << error << "\n";
+        return kUsage;
+    }
+    o.metric = *metric;
+    o.budget = a.budget;
+    o.seed = a.seed;
+    const std::string dir = a.out.empty() ? "out/" + sc.name + "-search" : a.out;
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) {
+        std::cerr << "sdv: error: cannot create '" << dir << "': " << ec.message() << "\n";
+        return kFailure;
+    }
+    ProgressBar bar("search " + sc.name);
+    o.progress = [&](int runs, int budget, double) { bar.update(runs, budget, 0); };
+    const auto result = campaign::search(l.program, l.index, o);
+    bar.clear();
+    if (!result.error.empty()) {
+        std::cerr << "sdv: error: " << result.error << "\n";
+        return kFailure;
+    }
+    // Every run, in order: what the optimiser tried.
+    std::string csv = "run";
+    for (const auto& p : sc.vary.params) csv += "," + (p.unit.empty() ? p.name : p.name + "[" + p.unit + "]");
+    csv += ",\"" + o.metric.text + (o.metric.unit.empty() ? "" : "[" + o.metric.unit + "]") + "\",error\n";
+    for (size_t i = 0; i < result.runs.size(); ++i) {
+        const auto& r = result.runs[i];
+        csv += std::to_string(i);
+        for (double v : r.values) csv += "," + number_text(v);
+        csv += "," + (std::isfinite(r.metric) ? number_text(r.metric) : std::string()) + ",";
+        if (!r.error.empty()) {
+            std::string q = r.error;
+            for (auto& ch : q) ch = ch == '"' || ch == '\n' ? '\'' : ch;
+            csv += "\"" + q + "\"";
+        }
+        csv += "\n";
+    }
+    if (!write_file(dir + "/search.csv", csv)) return kFailure;
+    const auto& best = result.runs[result.best];
+    if (!best.error.empty()) {
+        std::cerr << "sdv: error: every run of the search failed; the first: " << result.runs.front().error << "\n";
+        return kFailure;
+    }
+    const std::string values = campaign::describe(sc.vary, best.values);
+    std::cout << "search " << sc.name << ": " << result.runs.size() << " runs, " << (o.maximize ? "maximum " : "minimum ")
+              << o.metric.text << " = "
+              << (std::isfinite(best.metric) ? number_text(best.metric) + (o.metric.unit.empty() ? "" : " " + o.metric.unit)
+                                             : std::string("never measured"))
+              << " at run " << result.best << "\n  " << values << "\n";
+    // The worst case as a plain scenario, and its run with the outputs of `sdv run`.
+    const bool is_sdv = a.file.size() > 4 && a.file.compare(a.file.size() - 4, 4, ".sdv") == 0;
+    if (is_sdv) {
+        std::vector<std::pair<std::string, std::string>> placed;
+        for (size_t k = 0; k < sc.vary.params.size(); ++k) {
+            const auto& p = sc.vary.params[k];
+            const std::string v = p.integer ? std::to_string(std::llround(best.values[k])) : number_text(best.values[k]);
+            placed.emplace_back(p.name, p.unit.empty() ? v : v + " " + p.unit);
+        }
+        const std::string comment = "The " + std::string(o.maximize ? "maximum" : "minimum") + " of " + o.metric.text +
+                                    " found by `sdv search` (" + std::to_string(result.runs.size()) + " runs, seed " +
+                                    std::to_string(o.seed) + "): " + values;
+        auto text = compiler::concretize(a.file, l.text, sc.name, placed, comment, error);
+        const std::string out = a.write.empty() ? dir + "/worst.sdv" : a.write;
+        if (!text) {
+            std::cerr << "sdv: warning: no concrete scenario written: " << error << "\n";
+        } else if (write_file(out, *text)) {
+            std::cout << "worst case written to " << out << "\n";
+        }
+    }
+    ir::Program variant = l.program;
+    const auto base = ir::scenario_number_values(l.program, l.index);
+    if (auto e = ir::apply_variant(variant, l.index, base, best.values); !e.empty()) {
+        std::cerr << "sdv: error: " << e << "\n";
+        return kFailure;
+    }
+    std::string run_error;
+    campaign::run_kept(variant, l.index, dir, 0, run_error);
+    std::error_code rename_ec;
+    fs::remove_all(dir + "/worst", rename_ec);
+    fs::rename(dir + "/runs/0", dir + "/worst", rename_ec);
+    fs::remove(dir + "/runs", rename_ec);
+    if (!run_error.empty()) std::cerr << "sdv: warning: " << run_error << "\n";
+    std::cout << "its run in " << dir << "/worst (sdv view " << dir << "/worst)\n";
+    return kOk;
 }
 
 }  // namespace sdv::cli

@@ -717,6 +717,20 @@ int run(int argc, char** argv) {
         ->needs(slurm_opt);
     add_common(sweep_cmd);
 
+    SearchArgs search_args;
+    auto* search_cmd = app.add_subcommand("search", "find the variant of a scenario's vary block that minimises (or "
+                                                    "maximises) a metric, with NLopt within a budget of runs");
+    search_cmd->add_option("file", search_args.file, ".sdv or .sdvir file with a vary block")->required();
+    search_cmd->add_option("-o,--output", search_args.out, "output directory (default out/<scenario>-search)");
+    search_cmd->add_option("--scenario", search_args.scenario, "which scenario of the file");
+    search_cmd->add_option("--minimize", search_args.minimize, "the metric to minimise, as an expectation names it: "
+                                                               "'min_ttc(ego, v2)'");
+    search_cmd->add_option("--maximize", search_args.maximize, "the metric to maximise: 'max_jerk(ego)'");
+    search_cmd->add_option("--budget", search_args.budget, "runs at most (default 200)")->check(CLI::Range(1, 1000000));
+    search_cmd->add_option("--seed", search_args.seed, "seed of the optimiser's global phase (default 1)");
+    search_cmd->add_option("--write", search_args.write, "the worst case as a .sdv file (default OUT/worst.sdv)");
+    add_common(search_cmd);
+
     auto* view_cmd = app.add_subcommand("view", "one self-contained HTML report of a run (map, playback, charts, "
                                                 "timeline, expectations, decisions); opens offline");
     view_cmd->add_option("run_dir", view_dir, "a run output directory (sdv run -o; --trace adds the decisions), or a sweep's (sdv sweep -o)")->required();
@@ -754,6 +768,7 @@ int run(int argc, char** argv) {
     if (cat->parsed()) return cmd_catalog(catalog_format);
     if (convert_cmd->parsed()) return cmd_convert(convert_file, convert_out, common, warnings);
     if (sweep_cmd->parsed()) return cmd_sweep(sweep_args, common, warnings);
+    if (search_cmd->parsed()) return cmd_search(search_args, common, warnings);
     if (view_cmd->parsed()) {
         std::string error;
         // A sweep directory gets the sweep's report; a run directory the run's.

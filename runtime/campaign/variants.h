@@ -30,7 +30,7 @@ public:
     std::vector<double> levels(size_t k) const;
 
 private:
-    const ir::Vary& vary_;
+    ir::Vary vary_;  // a copy: a space outlives the program it came from
     int64_t size_ = 0;
     std::vector<std::vector<int64_t>> strata_;  // latin: per parameter, the bin of each variant
 };

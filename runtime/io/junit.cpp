@@ -103,7 +103,7 @@ std::string expectation_message(const ir::Scenario& scenario, size_t root, const
             measured += p.text + (p.value ? " = " + num(*p.value) : p.time ? " at " + num(*p.time) + " s" : "") +
                         (p.holds ? " (true)" : " (false)");
         }
-        if (measured.empty()) measured = "nothing measured";
+        measured = measured.empty() ? "measured nothing" : "measured " + measured;
     }
     return measured + "; expected " + e.text;
 }
