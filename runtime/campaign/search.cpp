@@ -12,6 +12,7 @@
 #include "runtime/catalog/catalog.h"
 #include "runtime/ir/bindings.h"
 #include "runtime/sim/expectations.h"
+#include "runtime/sim/road_cache.h"
 
 namespace sdv::campaign {
 namespace {
@@ -40,7 +41,11 @@ struct Search {
 
     Search(const ir::Program& p, int s, const SearchOptions& opts)
         : program(p), scenario(s), o(opts), space(p.scenarios[static_cast<size_t>(s)].vary),
-          base(ir::scenario_number_values(p, s)), variant(p) {}
+          base(ir::scenario_number_values(p, s)), variant(p) {
+        run_options.roads = std::make_shared<sim::RoadCache>();
+    }
+
+    sim::RunOptions run_options;  // every run shares the road
 
     // The objective NLopt minimises: the metric, negated to maximise; failures are worst.
     double objective(const double* u, unsigned n) {
@@ -59,7 +64,7 @@ struct Search {
         std::string err = ir::apply_variant(variant, scenario, base, values);
         double f = kWorst;
         if (err.empty()) {
-            const sim::RunResult r = sim::simulate(variant, scenario, sim::RunOptions{});
+            const sim::RunResult r = sim::simulate(variant, scenario, run_options);
             err = r.error;
             if (err.empty()) {
                 ev.metric = metric_value(sc, o.metric, r);

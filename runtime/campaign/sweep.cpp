@@ -28,6 +28,7 @@
 #include "runtime/io/view.h"
 #include "runtime/ir/bindings.h"
 #include "runtime/ir/ir_io.h"
+#include "runtime/sim/road_cache.h"
 
 namespace sdv::campaign {
 namespace fs = std::filesystem;
@@ -285,6 +286,9 @@ SweepOutcome run_sweep(const ir::Program& program, int scenario, const SweepOpti
         }
     }
     const std::vector<double> base = ir::scenario_number_values(program, scenario);
+    // Every variant runs on the same road: build it once.
+    sim::RunOptions run_options;
+    run_options.roads = std::make_shared<sim::RoadCache>();
     std::atomic<size_t> next{0};
     std::mutex mu;
     int64_t finished = out.skipped, failed = 0;
@@ -303,10 +307,10 @@ SweepOutcome run_sweep(const ir::Program& program, int scenario, const SweepOpti
         if (!err.empty()) {
             r.error = err;
         } else if (o.keep == Keep::runs) {
-            r = run_kept(variant, scenario, o.dir, i, err);
+            r = run_kept(variant, scenario, o.dir, i, err, run_options);
         } else {
-            r = sim::simulate(variant, scenario, sim::RunOptions{});
-            if (o.keep == Keep::failed && !r.passed()) r = run_kept(variant, scenario, o.dir, i, err);
+            r = sim::simulate(variant, scenario, run_options);
+            if (o.keep == Keep::failed && !r.passed()) r = run_kept(variant, scenario, o.dir, i, err, run_options);
         }
         const std::string line = row(sc, i, values, r) + "\n";
         std::lock_guard<std::mutex> lock(mu);
@@ -357,7 +361,7 @@ SweepOutcome run_sweep(const ir::Program& program, int scenario, const SweepOpti
 }
 
 sim::RunResult run_kept(const ir::Program& variant, int scenario, const std::string& dir, int64_t index,
-                        std::string& error) {
+                        std::string& error, const sim::RunOptions& options) {
     const std::string run_dir = dir + "/runs/" + std::to_string(index);
     std::error_code ec;
     fs::create_directories(run_dir, ec);
@@ -365,9 +369,9 @@ sim::RunResult run_kept(const ir::Program& variant, int scenario, const std::str
     sim::RunResult r;
     if (auto e = recorder.open(run_dir, false); !e.empty()) {
         error = e;
-        return sim::simulate(variant, scenario, sim::RunOptions{});
+        return sim::simulate(variant, scenario, options);
     }
-    r = sim::simulate(variant, scenario, sim::RunOptions{}, &recorder);
+    r = sim::simulate(variant, scenario, options, &recorder);
     if (!r.error.empty()) {
         recorder.discard();
         return r;

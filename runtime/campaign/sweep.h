@@ -56,7 +56,7 @@ SweepOutcome run_sweep(const ir::Program& program, int scenario, const SweepOpti
 // Runs one variant (already applied to `variant`) with the outputs of `sdv run` and its
 // view.html in DIR/runs/<index>; `error` says what could not be written.
 sim::RunResult run_kept(const ir::Program& variant, int scenario, const std::string& dir, int64_t index,
-                        std::string& error);
+                        std::string& error, const sim::RunOptions& options = {});
 
 // Clears what a previous sweep left in DIR (rows, runs, results), for a fresh start.
 std::string clear_sweep(const std::string& dir);

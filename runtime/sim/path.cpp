@@ -11,7 +11,7 @@ constexpr double kPathBehind = 60.0;
 }  // namespace
 
 std::shared_ptr<const road::ReferenceLine> build_path(const road::RoadNetwork& net, const std::vector<road::RouteStep>& route,
-                                                      Driver& d, LaneId from, double from_s, World::PathCache& cache) {
+                                                      Driver& d, LaneId from, double from_s, PathCache& cache) {
     d.path.clear();
     d.path_start.clear();
     std::vector<road::Vec2> pts;
@@ -83,7 +83,7 @@ std::shared_ptr<const road::ReferenceLine> build_path(const road::RoadNetwork& n
     auto line = std::make_shared<const road::ReferenceLine>(std::move(*ref));
     std::lock_guard<std::mutex> lock(cache.mutex);
     // Another thread may have built the same line meanwhile: keep the first (they are equal).
-    const auto [it, fresh] = cache.lines.try_emplace(key, World::PathCache::Entry{line, d.path_start});
+    const auto [it, fresh] = cache.lines.try_emplace(key, PathCache::Entry{line, d.path_start});
     d.path_start = it->second.starts;
     return it->second.line;
 }

@@ -18,6 +18,6 @@ namespace sdv::sim {
 // or null when no line can be fitted.
 // Lines are shared through `cache` (World::paths) by their lanes.
 std::shared_ptr<const road::ReferenceLine> build_path(const road::RoadNetwork& net, const std::vector<road::RouteStep>& route,
-                                                      Driver& d, LaneId from, double from_s, World::PathCache& cache);
+                                                      Driver& d, LaneId from, double from_s, PathCache& cache);
 
 }  // namespace sdv::sim

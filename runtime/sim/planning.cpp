@@ -50,7 +50,7 @@ void plan_cycle(const World& w, Agent& a, double t0) {
     if (d.ref && a.lane != kNoLane) {
         const auto probe = d.ref->project({a.x, a.y}, d.ref_s);
         if (probe.s > d.ref->length() - 120 || std::fabs(probe.d) > 6) {
-            if (auto r = build_path(w.net, a.route, d, a.lane, a.lane_s, w.paths)) {
+            if (auto r = build_path(w.net, a.route, d, a.lane, a.lane_s, *w.paths)) {
                 d.ref = r;
                 d.ref_s = -1;
             }
@@ -69,7 +69,7 @@ void plan_cycle(const World& w, Agent& a, double t0) {
             auto route = road::shortest_route(w.net, d.target_lane, a.goal_lane);
             if (!route.steps.empty()) a.route = route.steps;
         }
-        if (auto r = build_path(w.net, a.route, d, d.target_lane, a.lane_s, w.paths)) {
+        if (auto r = build_path(w.net, a.route, d, d.target_lane, a.lane_s, *w.paths)) {
             d.ref = r;
             d.ref_s = -1;
             a.lane = d.target_lane;

@@ -21,8 +21,12 @@
 
 namespace sdv::sim {
 
+class RoadCache;
+
 struct RunOptions {
     std::optional<uint64_t> seed;  // overrides the scenario's
+    // Roads shared with other runs of this process (runtime/sim/road_cache.h); null: built here.
+    std::shared_ptr<RoadCache> roads;
     int threads = 1;
     bool trace = false;             // decisions.jsonl
     bool realtime = false;          // pace to the wall clock (never changes the states)

@@ -76,7 +76,31 @@ std::string World::locate(const ir::Position& pos, LaneId& lane, double& s) cons
     return "";
 }
 
-std::string World::build_road() {
+namespace {
+
+// The IR road in full, as the key of a shared network.
+std::string road_key(const ir::Road& r) {
+    std::string k = std::to_string(static_cast<int>(r.kind)) + "|" + r.name + "|" + std::to_string(r.lanes_forward) + "|" +
+                    std::to_string(r.lanes_backward) + "|" + r.control + "|" + r.map_file + "|" +
+                    std::to_string(r.has_origin);
+    char buf[64];
+    for (double x : {r.lane_width, r.speed_limit, r.origin_x, r.origin_y, r.heading, r.arm_length, r.origin_lat,
+                     r.origin_lon, r.origin_alt}) {
+        std::snprintf(buf, sizeof buf, "|%.17g", x);
+        k += buf;
+    }
+    for (const auto& seg : r.segments) {
+        std::snprintf(buf, sizeof buf, "|%d:%.17g:%.17g", seg.arc ? 1 : 0, seg.length, seg.radius);
+        k += buf;
+    }
+    return k;
+}
+
+}  // namespace
+
+// The network of the scenario's road, prepared (every reference line and the index of locate
+// built, so that threads only read it); an error message, or "".
+std::string World::make_road(road::RoadNetwork& out) const {
     const ir::Road& r = program.roads.at(static_cast<size_t>(scenario.road));
     const std::string at = where(r.loc);
     switch (r.kind) {
@@ -94,7 +118,7 @@ std::string World::build_road() {
             }
             auto b = road::build_road(spec);
             if (!b.errors.empty()) return at + ": " + b.errors.front();
-            net = std::move(b.network);
+            out = std::move(b.network);
             break;
         }
         case ir::RoadKind::junction: {
@@ -110,7 +134,7 @@ std::string World::build_road() {
                                                           : road::JunctionSpec::stop_signs;
             auto b = road::build_junction(spec);
             if (!b.errors.empty()) return at + ": " + b.errors.front();
-            net = std::move(b.network);
+            out = std::move(b.network);
             break;
         }
         case ir::RoadKind::lanelet2: {
@@ -118,13 +142,25 @@ std::string World::build_road() {
             if (r.has_origin) origin = road::GeoOrigin{r.origin_lat, r.origin_lon, r.origin_alt};
             auto l = road::load_lanelet2(r.map_file, origin);
             if (!l.errors.empty()) return at + ": map '" + r.map_file + "': " + l.errors.front();
-            net = std::move(*l.network);
+            out = std::move(*l.network);
             break;
         }
     }
-    // Reference lines are built lazily by the network: build them all now (and the index of
-    // locate), before any thread reads them.
-    net.prepare();
+    out.prepare();
+    return "";
+}
+
+std::string World::build_road() {
+    if (options.roads) {
+        const std::string key = road_key(program.roads.at(static_cast<size_t>(scenario.road)));
+        std::string error;
+        auto shared = options.roads->network(key, [&](road::RoadNetwork& n) { return make_road(n); }, error);
+        if (!shared) return error;
+        net = *shared;  // a copy of the prepared network: far cheaper than building it
+        paths = options.roads->paths(key);
+    } else if (auto e = make_road(net); !e.empty()) {
+        return e;
+    }
     for (const auto& l : scenario.lights) {
         programs[l.name] = &l;
         const bool known = std::any_of(net.lights.begin(), net.lights.end(), [&](const road::TrafficLight& x) { return x.name == l.name; });
@@ -194,7 +230,7 @@ std::string World::place_agent(Agent& a) {
         a.driver = std::make_unique<Driver>();
         Driver& d = *a.driver;
         d.tree = std::make_unique<bt::BehaviorTree>(&program.instances.at(static_cast<size_t>(a.v->tree)));
-        d.ref = build_path(net, a.route, d, lane, f.s, paths);
+        d.ref = build_path(net, a.route, d, lane, f.s, *paths);
         if (!d.ref) return vwhere + ": cannot build a reference line from lane '" + net.lane(lane).name + "'";
         // Initial plan: keep the start speed until the first plan takes over.
         const road::FrenetState f0 = d.ref->to_frenet({a.x, a.vx, 0, a.y, a.vy, 0}, d.path_start.front() + f.s);

@@ -20,6 +20,7 @@
 #include "runtime/ir/ir.h"
 #include "runtime/planner/planner.h"
 #include "runtime/road/road_network.h"
+#include "runtime/sim/road_cache.h"
 #include "runtime/road/routing.h"
 #include "runtime/sim/grid.h"
 #include "runtime/sim/simulation.h"
@@ -158,19 +159,9 @@ struct World {
     std::vector<Agent> agents;
     std::vector<Snap> snapshot;
     Grid grid;  // the snapshot's agents by position (cells of the sensor range)
-    // Reference lines by the lanes they run along (with the lane starts on them): drivers on the
-    // same lanes share one line (memory per vehicle does not grow with lane length). Filled by
-    // the planning threads under its mutex; a line depends only on its lanes, so who builds it
-    // first changes nothing.
-    struct PathCache {
-        struct Entry {
-            std::shared_ptr<const road::ReferenceLine> line;
-            std::vector<double> starts;
-        };
-        std::mutex mutex;
-        std::map<std::vector<LaneId>, Entry> lines;
-    };
-    mutable PathCache paths;
+    // Reference lines of the drivers' paths (runtime/sim/road_cache.h): this run's own, or
+    // those shared through RunOptions::roads.
+    std::shared_ptr<PathCache> paths = std::make_shared<PathCache>();
     double dt = 1.0 / 30;
     double latency = 1.0 / 3;
     uint64_t seed = 0;
@@ -188,6 +179,7 @@ struct World {
 
 private:
     std::string build_road();
+    std::string make_road(road::RoadNetwork& out) const;
     std::string place_agent(Agent& a);
 };
 
