@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Installs the Debian packages sdv builds against (SPEC §2), plus Chromium and Node.js for the
-# browser test of `sdv view` and python3-protobuf for the co-simulation clients (only with
-# --tests). Run as root on Debian 12.
+# browser tests of `sdv view`, python3-protobuf for the co-simulation clients, and Slurm with
+# munge for the test of `sdv sweep --slurm` on a local cluster (only with --tests). Run as root
+# on Debian 12.
 set -euo pipefail
 pkgs=(build-essential cmake antlr4 libantlr4-runtime-dev libeigen3-dev libpugixml-dev libcli11-dev
-      doctest-dev nlohmann-json3-dev libgeographiclib-dev libbenchmark-dev libprotobuf-dev protobuf-compiler)
+      doctest-dev nlohmann-json3-dev libgeographiclib-dev libbenchmark-dev libprotobuf-dev protobuf-compiler libnlopt-cxx-dev)
 if [ "${1:-}" = --tests ]; then
-    pkgs+=(chromium python3-protobuf)
+    pkgs+=(chromium python3-protobuf slurm-wlm munge)
     command -v npm >/dev/null || pkgs+=(nodejs npm)
 fi
 missing=()

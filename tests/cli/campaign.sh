@@ -106,6 +106,8 @@ assert s["passed"] is False and row["passed"] == "0"
 assert abs(s["expectations"][1]["value"] - float(row["e2[s]"])) < 1e-4 * max(1, abs(float(row["e2[s]"])))
 assert any(e["kind"] == "collision" for e in s["events"])
 EOF
+# The sweep's runs share one road between variants (sim::RoadCache); a run alone builds its own.
+same "$tmp/keep/runs/$k/trajectories.csv" "$tmp/v/trajectories.csv" "a kept variant's trajectories are those of sdv run --variant $k"
 "$sdv" run "$table" --variant 35 -o "$tmp/v" > /dev/null 2>&1; [ $? -eq 2 ] && pass "--variant out of range is a usage error" || bad "--variant 35"
 
 # ---- JUnit XML

@@ -3,8 +3,9 @@
 #   runtime/ never includes compiler/ (the IR, runtime/ir, is the contract between them);
 #   runtime/catalog includes only itself; runtime/ir only the catalog;
 #   runtime/road and runtime/planner never include runtime/sim, runtime/bt or runtime/io;
-#   runtime/bt never includes runtime/sim or runtime/io; runtime/sim never includes runtime/io
-#   or runtime/cosim; runtime/io never includes runtime/cosim;
+#   runtime/bt never includes runtime/sim or runtime/io; runtime/sim never includes runtime/io,
+#   runtime/cosim or runtime/campaign; runtime/io never includes runtime/cosim or runtime/campaign;
+#   runtime/campaign and runtime/cosim never include each other;
 #   cli/ is the only place that includes both compiler/ and runtime/io.
 # Usage: layers.sh REPO_ROOT
 set -u
@@ -25,8 +26,10 @@ check runtime/ir 'runtime/(road|planner|bt|sim|io)/' "runtime/ir includes a laye
 check runtime/road 'runtime/(planner|bt|sim|io)/' "runtime/road includes a layer above it"
 check runtime/planner 'runtime/(road|bt|sim|io|ir)/' "runtime/planner includes a layer above it (it works in the Frenet frame only)"
 check runtime/bt 'runtime/(sim|io|planner|road)/' "runtime/bt includes a layer above it"
-check runtime/sim 'runtime/(io|cosim)/' "runtime/sim includes runtime/io or runtime/cosim (outputs are written by observers)"
-check runtime/io 'runtime/cosim/' "runtime/io includes runtime/cosim (a layer above it)"
+check runtime/sim 'runtime/(io|cosim|campaign)/' "runtime/sim includes runtime/io, runtime/cosim or runtime/campaign (outputs are written by observers)"
+check runtime/io 'runtime/(cosim|campaign)/' "runtime/io includes runtime/cosim or runtime/campaign (layers above it)"
+check runtime/campaign 'runtime/cosim/' "runtime/campaign includes runtime/cosim (they are siblings)"
+check runtime/cosim 'runtime/campaign/' "runtime/cosim includes runtime/campaign (they are siblings)"
 check compiler 'runtime/(sim|io|bt|planner)/' "compiler/ includes the simulation"
 # No file in runtime/sim above 400 lines: the loop stays in stages.
 for f in "$root"/runtime/sim/*.cpp "$root"/runtime/sim/*.h; do
