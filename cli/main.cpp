@@ -78,6 +78,13 @@ std::string summary(const ir::Program& p, const std::string& hash) {
         for (int32_t root : s.expect_roots) {
             out << "  expect " << s.expects[static_cast<size_t>(root)].text << "\n";
         }
+        if (!s.vary.empty()) {
+            const char* methods[] = {"grid", "random", "latin"};
+            out << "  vary " << s.vary.params.size() << " parameter" << (s.vary.params.size() == 1 ? "" : "s") << " ("
+                << methods[static_cast<int>(s.vary.sample)] << "): " << campaign::VariantSpace(s.vary).size()
+                << " variants\n";
+            for (const auto& vp : s.vary.params) out << "    " << vp.name << " in " << vp.domain << "\n";
+        }
     }
     if (p.scenarios.empty()) out << p.trees.size() << " trees, no scenario\n";
     out << "IR hash " << hash << "\n";
