@@ -29,9 +29,12 @@ namespace sdv::campaign {
 namespace {
 
 constexpr auto poll_interval = std::chrono::milliseconds(500);
-// squeue failing (job not visible yet, controller busy) is tolerated for this many polls in a
-// row before the wait gives up; "Invalid job id" before the job was ever seen, for fewer.
-constexpr int max_squeue_failures = 120;
+// squeue failing (job not visible yet, controller busy or restarting) is tolerated until it has
+// failed for this long and this many times in a row (each failing call can take seconds).
+constexpr auto squeue_failure_window = std::chrono::seconds(120);
+constexpr int min_squeue_failures = 10;
+// A job never listed (squeue says "Invalid job id": it may have ended and been purged before
+// the first poll) counts as finished after this many polls.
 constexpr int unseen_grace_polls = 10;
 // A missing .rc file is looked for again this many times (0.5 s apart) in case the shared file
 // system shows it late.
@@ -382,6 +385,11 @@ SlurmOutcome slurm_run(const SlurmJob& job, const std::function<void(int done, i
         outcome.error = "squeue not found: install slurm-wlm or run without --slurm";
         return outcome;
     }
+    // Slurm's commands retry a missing configuration file for a minute before they fail.
+    if (const char* conf = std::getenv("SLURM_CONF"); conf && *conf && ::access(conf, R_OK) != 0) {
+        outcome.error = sys_error(std::string("SLURM_CONF names ") + conf + ", which cannot be read", errno);
+        return outcome;
+    }
 
     // The script, and no exit-status file left from an earlier submission.
     const std::string dir = slurm_dir(job);
@@ -427,6 +435,7 @@ SlurmOutcome slurm_run(const SlurmJob& job, const std::function<void(int done, i
     std::vector<TaskState> tasks(static_cast<size_t>(k), TaskState::unknown);
     int last_done = -1;
     int failures = 0;
+    auto failing_since = std::chrono::steady_clock::now();
     bool seen = false;
     bool finished = false;
     auto count_done = [&] {
@@ -447,13 +456,14 @@ SlurmOutcome slurm_run(const SlurmJob& job, const std::function<void(int done, i
         int listed = q.failure.empty() && q.status == 0 ? update_tasks(q.out, id, tasks) : 0;
         if (listed == 0) {
             // Not listed: not visible yet, or purged after it ended (then it has finished).
-            ++failures;
+            if (failures++ == 0) failing_since = std::chrono::steady_clock::now();
             bool gone = q.err.find("Invalid job id") != std::string::npos || (q.failure.empty() && q.status == 0);
             if (gone && (seen || failures > unseen_grace_polls)) {
                 finished = true;
                 break;
             }
-            if (failures > max_squeue_failures) {
+            if (failures >= min_squeue_failures &&
+                std::chrono::steady_clock::now() - failing_since > squeue_failure_window) {
                 std::string why = !q.failure.empty() ? q.failure : one_line(q.err);
                 outcome.error = "squeue failed for job " + id + " " + std::to_string(failures) +
                                 " times in a row: " + (why.empty() ? "exit status " + std::to_string(q.status) : why);

@@ -45,11 +45,12 @@ struct SlurmOutcome {
 };
 
 // Writes work_dir/slurm/sweep.sbatch, submits it with `sbatch --parsable`, polls
-// `squeue -h -r -j JOBID -o "%i %T"` every 0.5 s until no task is pending or running (calling
+// `squeue -h -r -t all -j JOBID -o "%i %T"` every 0.5 s until no task is pending or running (calling
 // progress(done, total) whenever the count of finished tasks changes; it may be empty), then
 // reads every task's .rc file: a missing file or a non-zero status marks the task failed.
-// squeue failing right after the submission (job not yet visible) is tolerated for a few polls;
-// a job that has left squeue counts as finished.
+// squeue failing right after the submission (job not yet visible) is tolerated for a few polls,
+// and a failing squeue (controller restarting) for two minutes; a job that has left squeue
+// counts as finished. A task found failed does not stop the others: all of them are waited for.
 SlurmOutcome slurm_run(const SlurmJob& job, const std::function<void(int done, int total)>& progress);
 
 }  // namespace sdv::campaign
