@@ -45,7 +45,9 @@ std::optional<std::string> concretize(const std::string& display, const std::str
         edits.push_back({v.lo.range.begin.offset, v.lo.range.end.offset, t});
     };
     auto insert = [&](uint32_t at, const std::string& t) { edits.push_back({at, at, t}); };
-    for (const auto& [path, value] : values) {
+    for (const auto& entry : values) {
+        const std::string& path = entry.first;  // not a structured binding: clang 14 cannot capture those
+        const std::string& value = entry.second;
         std::vector<std::string> parts;
         for (size_t from = 0;;) {
             const size_t dot = path.find('.', from);

@@ -12,8 +12,6 @@
 
 namespace sdv::cosim {
 
-namespace v1 = ::sdv::cosim::v1;
-
 enum class Encoding { binary, json };
 
 // "binary" or "json".

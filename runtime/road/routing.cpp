@@ -37,7 +37,8 @@ Route shortest_route(const RoadNetwork& net, LaneId from, LaneId to) {
     dist[static_cast<size_t>(from)] = 0;
     queue.push({0, from});
     while (!queue.empty()) {
-        auto [d, u] = queue.top();
+        const double d = queue.top().first;  // not a structured binding: clang 14 cannot capture those
+        const LaneId u = queue.top().second;
         queue.pop();
         if (d > dist[static_cast<size_t>(u)]) continue;
         if (u == to) break;
