@@ -25,9 +25,10 @@ ENTRIES = {
               "The parser found a token it did not expect. The note lists what it expected at that "
               "point. After 20 syntax errors in one file the parser stops."),
     "E0004": ("nesting too deep",
-              "Braces, brackets, parentheses and decorators nest more than 128 levels. Such input is "
-              "refused before parsing so that it cannot exhaust the stack; split the tree into "
-              "named subtrees."),
+              "Braces, brackets, parentheses and decorators nest more than 128 levels, or one "
+              "expectation has more than 256 `and` / `or` (each nests the expression a level "
+              "deeper). Such input is refused before parsing so that it cannot exhaust the stack; "
+              "split the tree into named subtrees, the expectation into several `expect`."),
     "E0005": ("number out of range",
               "A number literal does not fit a double (magnitude 1.8e308 and more)."),
     "E0006": ("cannot read file",

@@ -154,7 +154,7 @@ std::string render_all_json(const std::vector<Diagnostic>& ds, const SourceManag
     }
     j["errors"] = errors;
     j["warnings"] = warnings;
-    return j.dump(2);
+    return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);  // a message may quote invalid UTF-8 from a file
 }
 
 }  // namespace sdv::diag

@@ -84,6 +84,23 @@ private:
         return w;
     }
 
+    // Brackets nest values (tuples, calls) that the builder walks recursively: refuse input that
+    // nests deeper than the .sdv parser allows before it reaches the builder.
+    void track(const Token& t) {
+        const std::string text = t.getText();
+        if (text == "(" || text == "[") {
+            if (++brackets_ > syntax::kMaxNesting) {
+                diags_.error("E0004", pos_.range(t.getStartIndex(), t.getStartIndex() + 1),
+                             "nesting too deep: more than " + std::to_string(syntax::kMaxNesting) +
+                                 " levels of brackets")
+                    .notes.push_back({{}, "a value nests tuples and calls; flatten it"});
+                throw CancelParse{};
+            }
+        } else if ((text == ")" || text == "]") && brackets_ > 0) {
+            --brackets_;
+        }
+    }
+
     void close_all(const Token& at) {
         if (!last_was_nl_) pending_.push_back(synth(BtreeParser::NL, "\n", at));
         while (stack_.size() > 1) {
@@ -106,6 +123,7 @@ private:
                 stack_.back() = static_cast<int>(t->getCharPositionInLine());
             }
             last_was_nl_ = false;
+            track(*t);
             pending_.push_back(std::move(t));
             return;
         }
@@ -116,6 +134,7 @@ private:
             next = lexer_.nextToken();
         }
         if (first_) {  // blank lines before the first declaration
+            track(*next);
             pending_.push_back(std::move(next));
             if (pending_.back()->getType() != Token::EOF) {
                 first_ = false;
@@ -147,19 +166,24 @@ private:
             stack_.push_back(w);
             pending_.push_back(synth(BtreeParser::INDENT, "<indent>", at));
         } else {
-            while (w < stack_.back()) {
+            // The first level (the first line's indentation) is never closed: a line indented
+            // less than the first one matches no block.
+            while (stack_.size() > 1 && w < stack_.back()) {
                 stack_.pop_back();
                 pending_.push_back(synth(BtreeParser::DEDENT, "<dedent>", at));
             }
             if (w != stack_.back()) {
-                diags_.error("E0901", pos_.range(at.getStartIndex() - static_cast<size_t>(w - stack_.back()),
-                                                 at.getStartIndex()),
+                // The columns beyond the enclosing block (all of them under the first level).
+                const size_t start = at.getStartIndex();
+                const auto extra = static_cast<size_t>(w > stack_.back() ? w - stack_.back() : w);
+                diags_.error("E0901", pos_.range(start - std::min(start, extra), start),
                              "inconsistent indentation: this line is indented by " + std::to_string(w) +
                                  " columns, which matches no enclosing block")
                     .notes.push_back({{}, "a line closing a block must line up with a line above it"});
                 stack_.push_back(w);  // recover: treat it as a new level
             }
         }
+        track(*next);
         pending_.push_back(std::move(next));
     }
 
@@ -170,6 +194,7 @@ private:
     std::vector<int> stack_{0};
     bool first_ = true;
     bool last_was_nl_ = true;
+    int brackets_ = 0;
 };
 
 class ErrorListener : public antlr4::BaseErrorListener {

@@ -43,6 +43,46 @@ std::string ident(const std::string& raw, const std::string& fallback) {
     return s;
 }
 
+// Text from the scenario file put into a comment of the converted .sdv: one line of valid
+// UTF-8, whatever the file holds (a name with a line break must not add statements).
+std::string comment_text(const std::string& raw) {
+    std::string out;
+    for (size_t i = 0; i < raw.size();) {
+        const auto c = static_cast<unsigned char>(raw[i]);
+        const size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+        bool valid = n > 0 && i + n <= raw.size();
+        for (size_t k = 1; valid && k < n; ++k) valid = (static_cast<unsigned char>(raw[i + k]) >> 6) == 0x2;
+        if (!valid) {
+            out += '?';
+            ++i;
+        } else if (n == 1 && (c < 0x20 || c == 0x7f)) {
+            out += ' ';
+            ++i;
+        } else {
+            out.append(raw, i, n);
+            i += n;
+        }
+    }
+    return out;
+}
+
+// A light's name as the .sdv grammar reads it: names of letters, digits and `_` joined by '.'.
+bool is_qualified_name(const std::string& s) {
+    if (s.empty() || s.front() == '.' || s.back() == '.' || s.find("..") != std::string::npos) return false;
+    bool start = true;
+    for (char c : s) {
+        const auto u = static_cast<unsigned char>(c);
+        if (c == '.') {
+            start = true;
+        } else if (std::isalpha(u) || c == '_' || (!start && std::isdigit(u))) {
+            start = false;
+        } else {
+            return false;
+        }
+    }
+    return true;
+}
+
 // Reads one file's elements; every message names the element and points at it.
 class Reader {
 public:
@@ -310,6 +350,11 @@ private:
             diags_.error("E0911", l.range, "trafficlight without a 'name' tag (it must match a light of the map)");
             return;
         }
+        if (!is_qualified_name(l.name)) {
+            diags_.error("E0911", l.range, "trafficlight name '" + comment_text(l.name) + "' is not a name a scenario can refer to")
+                .notes.push_back({{}, "a light's name is letters, digits and '_' (not first), parts joined by '.', as in the map"});
+            return;
+        }
         const std::string who = "trafficlight '" + l.name + "'";
         auto states = tags.find("states");
         auto durations = tags.find("duration");
@@ -487,8 +532,8 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
     const std::string stem = fs::path(path).filename().string().substr(0, fs::path(path).filename().string().find('.'));
     const std::string scen = ident(stem, "scenario");
     std::ostringstream out;
-    out << "# Converted by `sdv convert` from " << fs::path(path).filename().string() << " (GeoScenario "
-        << "2.0): \"" << sc->name << "\".\n"
+    out << "# Converted by `sdv convert` from " << comment_text(fs::path(path).filename().string()) << " (GeoScenario "
+        << "2.0): \"" << comment_text(sc->name) << "\".\n"
         << "# Vehicles are named v<vid>, the ids the behavior trees use.\n\n";
     out << lib.text();
     out << "map gs_map {\n    file " << quoted(relative_to(*map, options.out_dir)) << "\n    origin (" << fixed(sc->origin.lat, 11)
@@ -497,7 +542,7 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
     std::vector<std::string> goal_vehicles, all_sdv_goals;
     for (const auto& v : sc->vehicles) {
         const std::string name = "v" + std::to_string(v.vid);
-        out << "    # " << name << (v.name.empty() ? "" : " '" + v.name + "'") << "\n";
+        out << "    # " << name << (v.name.empty() ? "" : " '" + comment_text(v.name) + "'") << "\n";
         if (v.btype == "SDV") {
             const auto& route = sc->routes.at(v.route);
             const GeoPoint& goal = route.back();

@@ -180,6 +180,12 @@ void Checker::check_builtin_road(const ast::RoadDecl& r, RoadSym& sym) {
         sym.length += out.length;
         road.segments.push_back(out);
     }
+    // The work of building a road grows with its length (reference lines sampled along it).
+    if (sym.ok && sym.length > ir::kMaxRoadLength) {
+        auto* d = error("E0301", r.name.range, where + " is " + fmt(sym.length / 1000) + " km long");
+        d->notes.push_back({{}, "a road is at most " + fmt(ir::kMaxRoadLength / 1000) + " km long, its segments together"});
+        sym.ok = false;
+    }
 }
 
 void Checker::check_junction(const ast::JunctionDecl& j, RoadSym& sym) {

@@ -931,6 +931,7 @@ std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& s
         std::vector<size_t> chunk_ends;
         int depth = 0;
         int decorators = 0;
+        int operators = 0;  // `and` / `or` since the last `expect`: each one nests the expression
         bool lexical_errors = false;
         bool after_close = false;
         size_t trees = 0;  // at least the trees declared: File::trees is reserved, not doubled
@@ -973,6 +974,14 @@ std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& s
                             "nesting is too deep (more than " + std::to_string(kMaxNesting) +
                                 " levels)")
                     .notes.push_back({{}, "split the tree into named subtrees"});
+                return nullptr;
+            }
+            if (t.type == SdvLexer::EXPECT || bracket == '}') operators = 0;
+            if ((t.type == SdvLexer::AND || t.type == SdvLexer::OR) && ++operators > kMaxOperators) {
+                diags.error("E0004", range_of(t),
+                            "expression is too long (more than " + std::to_string(kMaxOperators) +
+                                " 'and' / 'or')")
+                    .notes.push_back({{}, "write it as several expect statements: they must all hold"});
                 return nullptr;
             }
             lexemes[kept++] = t;

@@ -14,6 +14,8 @@ namespace sdv::compiler::syntax {
 // Deepest nesting of braces, brackets, parentheses and decorators the parser accepts. Deeper
 // input is rejected with E0004 before parsing, so pathological files cannot exhaust the stack.
 inline constexpr int kMaxNesting = 128;
+// Most `and` / `or` in one expectation: each one nests the expression one level deeper.
+inline constexpr int kMaxOperators = 256;
 // Syntax errors reported per file before the parser gives up on it.
 inline constexpr int kMaxSyntaxErrors = 20;
 

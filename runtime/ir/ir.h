@@ -95,6 +95,9 @@ struct TreeDecl {
 
 enum class RoadKind { road, junction, lanelet2 };
 
+// The longest built-in road (its segments together): building one is linear in its length.
+inline constexpr double kMaxRoadLength = 100e3;
+
 struct Segment {
     bool arc = false;
     double length = 0.0;

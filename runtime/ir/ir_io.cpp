@@ -511,6 +511,7 @@ public:
                 r.origin_y = number(o[1], rp + ".origin[1]");
                 r.heading = number(field(rj, "heading", rp), rp + ".heading");
                 const Json& segs = array(field(rj, "segments", rp), rp + ".segments");
+                double total = 0;
                 for (size_t k = 0; k < segs.size(); ++k) {
                     const std::string sp = rp + ".segments[" + std::to_string(k) + "]";
                     Segment s;
@@ -519,12 +520,17 @@ public:
                     if (!(s.length > 0)) fail(sp + ".length: must be positive");
                     if (s.arc) s.radius = number(field(segs[k], "radius", sp), sp + ".radius");
                     r.segments.push_back(s);
+                    total += s.length;
                 }
+                if (total > kMaxRoadLength) fail(rp + ".segments: the road is longer than 100 km");
+                if (!(r.lane_width > 0 && r.lane_width <= 10)) fail(rp + ".lane_width: out of range");
             } else if (r.kind == RoadKind::junction) {
                 r.lanes_forward = static_cast<int32_t>(integer(field(rj, "lanes", rp), rp + ".lanes", 1, 4));
                 r.lane_width = number(field(rj, "lane_width", rp), rp + ".lane_width");
                 r.speed_limit = number(field(rj, "speed_limit", rp), rp + ".speed_limit");
                 r.arm_length = number(field(rj, "arm_length", rp), rp + ".arm_length");
+                if (!(r.arm_length > 0 && r.arm_length <= kMaxRoadLength)) fail(rp + ".arm_length: out of range");
+                if (!(r.lane_width > 0 && r.lane_width <= 10)) fail(rp + ".lane_width: out of range");
                 r.control = string(field(rj, "control", rp), rp + ".control");
             } else {
                 r.map_file = string(field(rj, "map_file", rp), rp + ".map_file");
@@ -723,6 +729,33 @@ private:
 
 }  // namespace
 
+namespace {
+
+constexpr int kMaxIrDepth = 64;
+
+// The deepest nesting of arrays and objects in JSON text (brackets inside strings skipped), in
+// one pass.
+int json_depth(std::string_view text) {
+    int depth = 0, deepest = 0;
+    bool in_string = false;
+    for (size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (in_string) {
+            if (c == '\\') ++i;
+            else if (c == '"') in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            deepest = std::max(deepest, ++depth);
+        } else if (c == ']' || c == '}') {
+            --depth;
+        }
+    }
+    return deepest;
+}
+
+}  // namespace
+
 std::string write_ir(const Program& program) {
     const std::string body = canonical(program_json(program));
     std::string out = "{\n \"format\": \"sdvir\",\n \"version\": " + std::to_string(kFormatVersion) +
@@ -739,6 +772,12 @@ ReadResult read_ir(std::string_view text) {
     ReadResult r;
     if (text.empty()) {
         r.error = "not an sdv IR file: the file is empty";
+        return r;
+    }
+    // The IR nests a few levels; deeper input would cost the parser, the canonical form and the
+    // destructors work and stack per level. Refused before any of them runs.
+    if (json_depth(text) > kMaxIrDepth) {
+        r.error = "not an sdv IR file: JSON nested more than " + std::to_string(kMaxIrDepth) + " levels deep";
         return r;
     }
     Json j = Json::parse(text.begin(), text.end(), nullptr, false);

@@ -13,6 +13,11 @@
 namespace sdv::road {
 namespace {
 
+// Limits that keep the work of reading a map proportional to its size: coordinates within
+// 1,000 km of the origin, lanelets (sampled every 0.5 m) at most 50 km long.
+constexpr double kMaxCoordinate = 1e6;
+constexpr double kMaxLaneletLength = 50e3;
+
 using Id = long long;
 
 struct Way {
@@ -284,8 +289,22 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
             if (end != e->second.c_str() && std::isfinite(h)) heights[id] = h;
         }
         if (tags.count("local_x") && tags.count("local_y")) {
-            nodes[id] = {std::strtod(tags.at("local_x").c_str(), nullptr),
-                         std::strtod(tags.at("local_y").c_str(), nullptr)};
+            char* end_x = nullptr;
+            char* end_y = nullptr;
+            const std::string& tx = tags.at("local_x");
+            const std::string& ty = tags.at("local_y");
+            const Vec2 p{std::strtod(tx.c_str(), &end_x), std::strtod(ty.c_str(), &end_y)};
+            if (end_x == tx.c_str() || end_y == ty.c_str() || !std::isfinite(p.x) || !std::isfinite(p.y)) {
+                r.errors.push_back("node " + std::to_string(id) + ": local_x / local_y are not numbers ('" + tx +
+                                   "', '" + ty + "')");
+                continue;
+            }
+            if (std::fabs(p.x) > kMaxCoordinate || std::fabs(p.y) > kMaxCoordinate) {
+                r.errors.push_back("node " + std::to_string(id) + ": local coordinates (" + tx + ", " + ty +
+                                   ") are more than 1,000 km from the map's origin");
+                continue;
+            }
+            nodes[id] = p;
             continue;
         }
         if (!std::isfinite(lat) || !std::isfinite(lon) || std::fabs(lat) > 90 ||
@@ -300,6 +319,10 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
         if (nodes.empty()) proj.Reset(origin->lat, origin->lon, origin->alt);
         double x, y, z;
         proj.Forward(lat, lon, origin->alt, x, y, z);
+        if (!std::isfinite(x) || !std::isfinite(y) || std::fabs(x) > kMaxCoordinate || std::fabs(y) > kMaxCoordinate) {
+            r.errors.push_back("node " + std::to_string(id) + ": more than 1,000 km from the map's origin");
+            continue;
+        }
         nodes[id] = {x, y};
     }
     if (origin) r.origin = *origin;
@@ -449,10 +472,13 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
         for (Id n : a.left.nodes) lp.push_back(nodes.at(n));
         for (Id n : a.right.nodes) rp.push_back(nodes.at(n));
         // Centre line: both bounds resampled at the same arc-length fractions and averaged.
-        const int n = std::max(
-            2,
-            static_cast<int>(std::ceil(std::max(polyline_length(lp), polyline_length(rp)) / 0.5)) +
-                1);
+        const double bound_length = std::max(polyline_length(lp), polyline_length(rp));
+        if (!(bound_length <= kMaxLaneletLength)) {
+            r.errors.push_back(where + ": a bound is " + std::to_string(static_cast<long long>(bound_length / 1000)) +
+                               " km long; sdv reads lanelets up to 50 km (split it)");
+            return r;  // the lanelets after it are not built: the map is refused
+        }
+        const int n = std::max(2, static_cast<int>(std::ceil(bound_length / 0.5)) + 1);
         auto resample = [n](const std::vector<Vec2>& p) {
             std::vector<double> acc = {0};
             for (size_t i = 1; i < p.size(); ++i)
