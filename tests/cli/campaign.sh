@@ -39,6 +39,14 @@ grep -q "35 of 35 variants were done" "$tmp/sl.log" && pass "the merge ran nothi
 same "$tmp/j1/results.csv" "$tmp/sl/results.csv" "three slices merged give the same results.csv"
 same "$tmp/j1/summary.json" "$tmp/sl/summary.json" "three slices merged give the same summary.json"
 
+# ---- --slurm-script-only: the array script; its tasks' command lines, run here, then merged
+"$sdv" sweep "$table" -o "$tmp/script" --slurm --slurm-script-only --array-tasks 3 > "$tmp/script.log" 2>&1 || bad "--slurm-script-only"
+sb=$tmp/script/slurm/sweep.sbatch
+if grep -q '^#SBATCH --array=0-2' "$sb" && grep -q -- '--slice' "$sb"; then pass "the script is a 3-task array running slices"; else bad "script"; cat "$sb"; fi
+for i in 0 1 2; do SLURM_ARRAY_TASK_ID=$i bash "$sb" > /dev/null 2>&1 || bad "task $i of the script"; done
+"$sdv" sweep "$table" -o "$tmp/script" --resume > /dev/null 2>&1
+same "$tmp/j1/results.csv" "$tmp/script/results.csv" "the script's tasks, then --resume, give the local sweep's results.csv"
+
 # ---- summary.json agrees with results.csv
 python3 - "$tmp/j1" <<'EOF' && pass "summary.json counts agree with results.csv" || bad "summary.json counts"
 import csv, json, sys
