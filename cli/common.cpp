@@ -1,6 +1,7 @@
 // What the subcommands share (see common.h).
 #include "cli/common.h"
 
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -103,14 +104,21 @@ bool report(diag::DiagnosticEngine& diags, const diag::SourceManager& sm, const 
 
 int load_scenario(const std::string& file, const std::string& scenario, const Common& c, const WarningFlags& w,
                   Loaded& out) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) {
-        std::cerr << "sdv: error: cannot read '" << file << "'\n";
-        return kFailure;
+    {
+        // What the compiler says of a file it cannot read, as it says it (E0006 and the count).
+        std::error_code ec;
+        std::ifstream in(file, std::ios::binary);
+        if (std::filesystem::is_directory(file, ec) || !in) {
+            diag::SourceManager sm;
+            diag::DiagnosticEngine diags(sm);
+            compiler::compile_file(file, sm, diags);
+            report(diags, sm, c);
+            return kFailure;
+        }
+        std::stringstream ss;
+        ss << in.rdbuf();
+        out.text = ss.str();
     }
-    std::stringstream ss;
-    ss << in.rdbuf();
-    out.text = ss.str();
     const bool is_ir = file.size() > 6 && file.compare(file.size() - 6, 6, ".sdvir") == 0;
     std::optional<ir::Program> program;
     if (compiler::gss::is_geoscenario_path(file)) {

@@ -91,15 +91,22 @@ std::string summary(const ir::Program& p, const std::string& hash) {
     return out.str();
 }
 
-int cmd_lint(const std::vector<std::string>& files, const Common& c, const WarningFlags& w) {
+int cmd_lint(const std::vector<std::string>& files, const Common& c, const WarningFlags& w, bool quiet) {
     bool errors = false;
-    nlohmann::ordered_json all = nlohmann::ordered_json::array();
+    size_t warnings = 0;
     for (const auto& f : files) {
         diag::SourceManager sm;
         diag::DiagnosticEngine diags(sm);
         diags.set_policy(w.policy);
         compile_input(f, c, sm, diags);
+        warnings += diags.warning_count();
         errors = report(diags, sm, c) || errors;
+    }
+    // On success a one-line summary on a terminal (as compilers do), so a user sees it ran;
+    // nothing with -q, with --format json or into a pipe.
+    if (!errors && !quiet && c.format == "text" && isatty(STDOUT_FILENO) != 0) {
+        std::cout << (files.size() == 1 ? files[0] : std::to_string(files.size()) + " files") << ": no errors"
+                  << (warnings ? ", " + std::to_string(warnings) + " warning" + (warnings == 1 ? "" : "s") : "") << "\n";
     }
     return errors ? kFailure : kOk;
 }
@@ -605,6 +612,8 @@ int run(int argc, char** argv) {
     auto* lint = app.add_subcommand("lint", "parse and check .sdv files; all diagnostics at once. "
                                             "Warnings: -Wno-NAME, -Werror, -Werror=NAME");
     lint->add_option("files", lint_files, ".sdv files")->required();
+    bool lint_quiet = false;
+    lint->add_flag("-q,--quiet", lint_quiet, "no summary line on success");
     add_common(lint);
 
     std::string compile_file, compile_out, emit;
@@ -754,6 +763,21 @@ int run(int argc, char** argv) {
                                                     "structure)");
     check_ir->add_option("file", check_file, ".sdvir file")->required();
 
+    // `sdv` alone and `sdv help [SUBCOMMAND]`: the subcommands (or one's options), not only
+    // "a subcommand is required".
+    if (args.empty() || args[0] == "help") {
+        CLI::App* which = &app;
+        if (args.size() > 1) {
+            try {
+                which = app.get_subcommand(args[1]);
+            } catch (const CLI::OptionNotFound&) {
+                std::cerr << "sdv: error: no subcommand '" << args[1] << "'\n" << app.help();
+                return kUsage;
+            }
+        }
+        (args.empty() ? std::cerr : std::cout) << which->help();
+        return args.empty() ? kUsage : kOk;
+    }
     std::vector<const char*> cargv;
     cargv.push_back(argv[0]);
     for (const auto& a : args) cargv.push_back(a.c_str());
@@ -770,7 +794,7 @@ int run(int argc, char** argv) {
         return kUsage;
     }
 
-    if (lint->parsed()) return cmd_lint(lint_files, common, warnings);
+    if (lint->parsed()) return cmd_lint(lint_files, common, warnings, lint_quiet);
     if (compile->parsed()) return cmd_compile(compile_file, compile_out, emit, common, warnings);
     if (cat->parsed()) return cmd_catalog(catalog_format);
     if (convert_cmd->parsed()) return cmd_convert(convert_file, convert_out, common, warnings);

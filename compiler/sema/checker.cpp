@@ -94,9 +94,15 @@ Compilation compile_source(const std::string& display_path, std::string text, di
 
 Compilation compile_file(const std::string& path, diag::SourceManager& sm, diag::DiagnosticEngine& diags,
                          const CompileOptions& options) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) {
+        diags.error("E0006", {}, "'" + path + "' is a directory, not a file")
+            .notes.push_back({{}, "give the .sdv file (or .sdvir, .btree, .gs.osm) to read"});
+        return {};
+    }
     std::ifstream in(path, std::ios::binary);
     if (!in) {
-        diags.error("E0006", {}, "cannot read '" + path + "'");
+        diags.error("E0006", {}, "cannot read '" + path + "'" + (std::filesystem::exists(path, ec) ? "" : ": no such file"));
         return {};
     }
     std::stringstream ss;

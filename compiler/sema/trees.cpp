@@ -473,7 +473,10 @@ void Checker::warn_unused() {
                     used = used || t.used;
                 }
             }
-            if (!used && !main->scenarios.empty()) {
+            // An import that failed (E0107) is reported once, as the error.
+            const bool failed = reported_.count(std::make_tuple(std::string("E0107"), imp.path_range.begin.file,
+                                                                imp.path_range.begin.offset, std::string())) > 0;
+            if (!used && !failed && !main->scenarios.empty()) {
                 diags_->warning("W0103", "unused-import", imp.path_range,
                                "nothing from '" + imp.path + "' is used");
             }
