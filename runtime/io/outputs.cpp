@@ -199,8 +199,17 @@ std::string report(const ir::Program& p, int scenario, const sim::RunResult& r) 
     std::snprintf(buf, sizeof buf, "%s: %.1f s simulated in %.3f s (%.0fx real time), %lld plans\n", sc.name.c_str(), r.duration,
                   r.timing.wall_s, r.timing.wall_s > 0 ? r.duration / r.timing.wall_s : 0.0, r.timing.plan_us.count());
     o << buf;
+    // Fallback plans are summarised per vehicle below, not listed as events.
+    std::vector<double> first_fallback(sc.vehicles.size(), -1);
     for (const auto& ev : r.events) {
-        if (ev.kind == "timeout") continue;
+        if (ev.kind == "fallback") {
+            for (int v : ev.vehicles) {
+                if (first_fallback[static_cast<size_t>(v)] < 0) first_fallback[static_cast<size_t>(v)] = ev.time;
+            }
+        }
+    }
+    for (const auto& ev : r.events) {
+        if (ev.kind == "timeout" || ev.kind == "fallback") continue;
         std::snprintf(buf, sizeof buf, "  %7.2f s  %s", ev.time, ev.kind.c_str());
         o << buf;
         for (int v : ev.vehicles) o << " " << sc.vehicles[static_cast<size_t>(v)].name;
@@ -209,6 +218,32 @@ std::string report(const ir::Program& p, int scenario, const sim::RunResult& r) 
             o << buf;
         }
         o << "\n";
+    }
+    // Fallback: how much of each driver's planning found no feasible trajectory (the emergency
+    // fallback of docs/language.md), most first; many vehicles are summed up after the first five.
+    std::vector<size_t> fb;
+    long long fb_plans = 0, all_plans = 0;
+    for (size_t i = 0; i < r.vehicles.size() && i < sc.vehicles.size(); ++i) {
+        all_plans += r.vehicles[i].plans;
+        if (r.vehicles[i].fallback_plans == 0) continue;
+        fb.push_back(i);
+        fb_plans += r.vehicles[i].fallback_plans;
+    }
+    std::stable_sort(fb.begin(), fb.end(), [&](size_t a, size_t b) {
+        return r.vehicles[a].fallback_share() > r.vehicles[b].fallback_share();
+    });
+    constexpr size_t kListed = 5;
+    for (size_t k = 0; k < fb.size() && k < kListed; ++k) {
+        const auto& m = r.vehicles[fb[k]];
+        std::snprintf(buf, sizeof buf, "  fallback %s: %d of %d plans (%.0f %%), first at %.2f s\n",
+                      sc.vehicles[fb[k]].name.c_str(), m.fallback_plans, m.plans, 100 * m.fallback_share(),
+                      std::max(0.0, first_fallback[fb[k]]));
+        o << buf;
+    }
+    if (fb.size() > kListed) {
+        std::snprintf(buf, sizeof buf, "  fallback: %zu more vehicles; %lld of %lld plans of all vehicles (%.1f %%)\n",
+                      fb.size() - kListed, fb_plans, all_plans, all_plans > 0 ? 100.0 * static_cast<double>(fb_plans) / static_cast<double>(all_plans) : 0.0);
+        o << buf;
     }
     // A single call shows what it measured on its line; a compound one, every part below it.
     for (const auto& e : r.expectations) {
