@@ -308,8 +308,10 @@ std::vector<ConditionDef> build_conditions() {
              choice("lane", kLanes3, std::nullopt, "or: the nearest vehicle in this lane"), min,
              opt_qty("max", Dim::length, -kMaxDistance, kMaxDistance,
                      "true when the bumper gap is at most this"),
-             opt_qty("time_min", Dim::time, 0, 1e4, "true when the time gap is at least this"),
-             opt_qty("time_max", Dim::time, 0, 1e4, "true when the time gap is at most this")},
+             opt_qty("time_min", Dim::time, 0, 1e4,
+                     "true when the time gap (the bumper gap over the driver's own speed; infinite below 0.1 m/s) is at least this"),
+             opt_qty("time_max", Dim::time, 0, 1e4,
+                     "true when the time gap (the bumper gap over the driver's own speed) is at most this")},
             {"min", "max", "time_min", "time_max"}, {"vehicle", "lane"});
         cs.back().params[1].optional = true;
     }
@@ -329,9 +331,9 @@ std::vector<ConditionDef> build_conditions() {
          opt_qty("time_gap", Dim::time, 0, 1e4, "or: look-ahead time at own speed"),
          boolean("objects", true, "count static objects too (GeoScenario's lane occupancy counts vehicles only)")});
     add("can_lane_change", ConditionKind::can_lane_change,
-        "the target lane exists and has no vehicle within ±gap of own position",
+        "the target lane exists, runs the same way, and has no vehicle whose bumper gap to the driver (ahead or behind, along the lane) is under gap",
         {choice("lane", {"left", "right"}, std::nullopt, "target lane"),
-         qty("gap", Dim::length, DefaultValue{10}, 0, kMaxDistance, "free space needed")});
+         qty("gap", Dim::length, DefaultValue{10}, 0, kMaxDistance, "free bumper gap needed ahead and behind")});
     add("vehicle_moving", ConditionKind::vehicle_moving, "a vehicle moves faster than a threshold",
         {self(), qty("min_speed", Dim::speed, DefaultValue{0.5}, 0, kMaxSpeed, "threshold")});
     add("vehicle_stopped", ConditionKind::vehicle_stopped,
