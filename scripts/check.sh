@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Install, build and run every test: the CI build (warnings as errors), then the same tests
-# under AddressSanitizer + UndefinedBehaviorSanitizer. The last line is CTest's summary.
+# Install, build and run every test: the CI build (warnings as errors), the fuzz stage (every
+# libFuzzer target over its seeds plus a fixed number of new inputs), then the same tests under
+# AddressSanitizer + UndefinedBehaviorSanitizer. The last line is CTest's summary.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh --tests
@@ -11,6 +12,29 @@ jobs="$(nproc)"
 cmake --preset ci >/dev/null
 cmake --build --preset ci -j "$jobs"
 ctest --preset ci -j "$jobs"
+# Fuzz stage (tests/fuzz/README.md): every libFuzzer target (clang, ASan+UBSan) over its seed
+# corpus plus a fixed number of new inputs, two targets at a time; a crash, a leak, undefined
+# behaviour, an input over 1 s or 2 GB fails CI. Count bounded, never time bounded: the same
+# inputs on every run. Each target's log is in build/fuzz/ci-logs/.
+if [ "${SDV_SKIP_FUZZ:-0}" != 1 ]; then
+    fuzz_start=$SECONDS
+    cmake --preset fuzz >/dev/null
+    cmake --build --preset fuzz --target fuzz_targets -j "$jobs" >build/fuzz-build.log 2>&1 ||
+        { tail -40 build/fuzz-build.log; echo "fuzz stage: building the fuzz targets failed"; exit 1; }
+    scripts/fuzz-corpus.sh build/ci build/fuzz/corpus-ci >/dev/null
+    rm -rf build/fuzz/ci-logs && mkdir -p build/fuzz/ci-logs
+    fuzz_targets=(sdv_frontend ir_reader btree gss_scenario lanelet2 cosim_frame sweep_results)
+    fuzz_ok=1
+    printf '%s\n' "${fuzz_targets[@]}" | xargs -P "$jobs" -I{} sh -c \
+        'scripts/fuzz.sh {} --ci --corpus build/fuzz/corpus-ci > build/fuzz/ci-logs/{}.log 2>&1' || fuzz_ok=0
+    grep -h "^fuzz.sh: fuzz_.*executions" build/fuzz/ci-logs/*.log || true
+    echo "fuzz stage: $((SECONDS - fuzz_start)) s"
+    if [ $fuzz_ok = 0 ]; then
+        grep -h -E "FINDING|ERROR|runtime error|sdv fuzz:|ALARM|failed|^    /" build/fuzz/ci-logs/*.log | head -40
+        echo "fuzz stage failed (logs: build/fuzz/ci-logs; replay a finding: build/fuzz/fuzz/fuzz_TARGET FILE)"
+        exit 1
+    fi
+fi
 if [ "${SDV_SKIP_ASAN:-0}" != 1 ]; then
     cmake --preset asan >/dev/null
     cmake --build --preset asan -j "$jobs"

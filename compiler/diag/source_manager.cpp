@@ -10,9 +10,14 @@ FileId SourceManager::add_file(std::string path, std::string contents) {
     f.path = std::move(path);
     f.contents = std::move(contents);
     f.line_starts.push_back(0);
+    uint32_t cps = 0;
     for (size_t i = 0; i < f.contents.size(); ++i) {
+        if (i % kCheckpoint == 0) f.code_points.push_back(cps);
         if (f.contents[i] == '\n') f.line_starts.push_back(static_cast<uint32_t>(i + 1));
+        // Continuation bytes (10xxxxxx) do not start a code point.
+        if ((static_cast<unsigned char>(f.contents[i]) & 0xC0) != 0x80) ++cps;
     }
+    f.code_points.push_back(cps);  // at the end (a checkpoint past the last full block)
     files_.push_back(std::move(f));
     return static_cast<FileId>(files_.size());
 }
@@ -40,12 +45,17 @@ SourceManager::LineCol SourceManager::line_col(SourceLocation loc) const {
     auto it = std::upper_bound(f->line_starts.begin(), f->line_starts.end(), offset);
     const auto line = static_cast<uint32_t>(it - f->line_starts.begin());
     const uint32_t start = f->line_starts[line - 1];
-    uint32_t col = 1;
-    for (uint32_t i = start; i < offset; ++i) {
-        // Count code points: continuation bytes (10xxxxxx) do not start a column.
-        if ((static_cast<unsigned char>(f->contents[i]) & 0xC0) != 0x80) ++col;
+    return {line, 1 + code_points_before(*f, offset) - code_points_before(*f, start)};
+}
+
+uint32_t SourceManager::code_points_before(const File& f, uint32_t offset) {
+    const uint32_t block = offset / kCheckpoint;
+    if (block >= f.code_points.size()) return f.code_points.back();
+    uint32_t n = f.code_points[block];
+    for (uint32_t i = block * kCheckpoint; i < offset; ++i) {
+        if ((static_cast<unsigned char>(f.contents[i]) & 0xC0) != 0x80) ++n;
     }
-    return {line, col};
+    return n;
 }
 
 std::string_view SourceManager::line_text(FileId file, uint32_t line) const {

@@ -42,7 +42,13 @@ private:
         std::string path;
         std::string contents;
         std::vector<uint32_t> line_starts;  // byte offset of each line's first byte
+        // Code points before byte k * kCheckpoint: a column is found by scanning at most
+        // kCheckpoint bytes, however long its line (a 10 MB file may be one line).
+        std::vector<uint32_t> code_points;
     };
+    static constexpr uint32_t kCheckpoint = 256;
+    // Code points before byte `offset` of `f`.
+    static uint32_t code_points_before(const File& f, uint32_t offset);
     const File* get(FileId file) const;
 
     std::vector<File> files_;

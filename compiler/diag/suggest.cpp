@@ -6,20 +6,26 @@
 namespace sdv::diag {
 
 size_t edit_distance(std::string_view a, std::string_view b) {
-    const size_t n = a.size(), m = b.size();
-    std::vector<std::vector<size_t>> d(n + 1, std::vector<size_t>(m + 1));
-    for (size_t i = 0; i <= n; ++i) d[i][0] = i;
-    for (size_t j = 0; j <= m; ++j) d[0][j] = j;
-    for (size_t i = 1; i <= n; ++i) {
+    // Optimal string alignment distance with three rolling rows (one allocation).
+    const size_t m = b.size();
+    std::vector<size_t> rows(3 * (m + 1));
+    size_t* prev2 = rows.data();
+    size_t* prev = prev2 + (m + 1);
+    size_t* cur = prev + (m + 1);
+    for (size_t j = 0; j <= m; ++j) prev[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        cur[0] = i;
         for (size_t j = 1; j <= m; ++j) {
             const size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
-            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+            cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + cost});
             if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
-                d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+                cur[j] = std::min(cur[j], prev2[j - 2] + 1);
             }
         }
+        std::swap(prev2, prev);
+        std::swap(prev, cur);
     }
-    return d[n][m];
+    return prev[m];
 }
 
 std::optional<std::string> closest_match(std::string_view word,
@@ -30,6 +36,9 @@ std::optional<std::string> closest_match(std::string_view word,
     size_t best_d = limit + 1;
     for (const auto& c : candidates) {
         if (c == word || c.size() > 64) continue;
+        // The distance is at least the difference in length: most candidates cost nothing.
+        const size_t gap = c.size() > word.size() ? c.size() - word.size() : word.size() - c.size();
+        if (gap >= best_d) continue;
         const size_t dist = edit_distance(word, c);
         if (dist < best_d) {
             best_d = dist;

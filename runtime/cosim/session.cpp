@@ -160,6 +160,12 @@ Status Session::set_external_state(const ActorState& state) {
         last_error_ = "the state of '" + s.actors[state.id - 1].name + "' has a non-finite value";
         return Status::arg;
     }
+    // As far as a map may reach (1,000 km from its origin): the world indexes positions in cells.
+    constexpr double kMaxPosition = 1e6;
+    if (std::fabs(state.x) > kMaxPosition || std::fabs(state.y) > kMaxPosition || std::fabs(state.z) > kMaxPosition) {
+        last_error_ = "the state of '" + s.actors[state.id - 1].name + "' is more than 1,000 km from the origin";
+        return Status::arg;
+    }
     s.pending[state.id - 1] = state;
     return Status::ok;
 }

@@ -12,8 +12,10 @@ void Grid::build(const std::vector<double>& x, const std::vector<double>& y, con
     sorted_.clear();
     for (size_t i = 0; i < x.size(); ++i) {
         if (!active[i]) continue;
-        const auto cx = static_cast<int64_t>(std::floor(x[i] / cell_));
-        const auto cy = static_cast<int64_t>(std::floor(y[i] / cell_));
+        // Clamped before the conversion: positions are bounded upstream, but a cell index must
+        // never be undefined behaviour.
+        const auto cx = static_cast<int64_t>(std::clamp(std::floor(x[i] / cell_), -1e15, 1e15));
+        const auto cy = static_cast<int64_t>(std::clamp(std::floor(y[i] / cell_), -1e15, 1e15));
         sorted_.emplace_back(key(cx, cy), static_cast<int>(i));
     }
     std::sort(sorted_.begin(), sorted_.end());
@@ -21,10 +23,10 @@ void Grid::build(const std::vector<double>& x, const std::vector<double>& y, con
 
 void Grid::query(double px, double py, double radius, std::vector<int>& out) const {
     out.clear();
-    const auto lo_x = static_cast<int64_t>(std::floor((px - radius) / cell_));
-    const auto hi_x = static_cast<int64_t>(std::floor((px + radius) / cell_));
-    const auto lo_y = static_cast<int64_t>(std::floor((py - radius) / cell_));
-    const auto hi_y = static_cast<int64_t>(std::floor((py + radius) / cell_));
+    const auto lo_x = static_cast<int64_t>(std::clamp(std::floor((px - radius) / cell_), -1e15, 1e15));
+    const auto hi_x = static_cast<int64_t>(std::clamp(std::floor((px + radius) / cell_), -1e15, 1e15));
+    const auto lo_y = static_cast<int64_t>(std::clamp(std::floor((py - radius) / cell_), -1e15, 1e15));
+    const auto hi_y = static_cast<int64_t>(std::clamp(std::floor((py + radius) / cell_), -1e15, 1e15));
     const double r2 = radius * radius;
     for (int64_t cx = lo_x; cx <= hi_x; ++cx) {
         for (int64_t cy = lo_y; cy <= hi_y; ++cy) {

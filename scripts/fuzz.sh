@@ -1,0 +1,184 @@
+#!/usr/bin/env bash
+# Runs one libFuzzer target of tests/fuzz (tests/fuzz/README.md) and records the run in
+# docs/reliability.md.
+#
+#   scripts/fuzz.sh TARGET [MINUTES] [--no-sanitizers] [--runs N | --ci] [--keep-going]
+#                   [--record|--no-record] [--corpus DIR] [--jobs N] [--no-build]
+#
+# TARGET is a name of tests/fuzz/targets (sdv_frontend ir_reader btree gss_scenario lanelet2
+# cosim_frame sweep_results). The run is bounded by time (MINUTES, default 10) or, with --runs N,
+# by the number of inputs executed (the seeds included); --ci is --runs with the target's CI
+# count (below) and --no-build, as scripts/check.sh runs it. It builds the fuzz
+# preset (ASan+UBSan) or, with --no-sanitizers, fuzz-nosan, then gathers the seed corpus once
+# into build/<preset>/corpus (scripts/fuzz-corpus.sh; --corpus DIR uses another). New inputs
+# go to build/<preset>/fuzz-work/TARGET, kept between runs; findings to
+# build/<preset>/findings/TARGET/ (crash-*, timeout-*, oom-*, leak-*: replay one with
+# `build/<preset>/fuzz/fuzz_TARGET FILE`, then add it to tests/fuzz/regressions/TARGET/).
+# Every input that takes more than 1 s is a finding (-timeout=1), as is one using more than
+# 2 GB. The run stops at the first finding unless --keep-going (libFuzzer's fork mode: each
+# finding is saved and counted, the fuzzing goes on). A time-bounded run rewrites its row (target and build) of the table in
+# docs/reliability.md unless --no-record; a count-bounded one only with --record.
+# Exit status: 0 no finding, 1 a finding, 2 usage or build errors.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+targets=(sdv_frontend ir_reader btree gss_scenario lanelet2 cosim_frame sweep_results)
+
+# The largest input of each target (-max_len): above its biggest real input and the deep seeds
+# of tests/fuzz/gen_deep.py (Lanelet2 maps of ../shared/data reach 730 KB).
+declare -A max_len=([sdv_frontend]=262144 [ir_reader]=262144 [btree]=262144 [gss_scenario]=262144
+                    [lanelet2]=1048576 [cosim_frame]=262144 [sweep_results]=262144)
+# The executions of a CI run (--ci), seeds included: about 20 s each under ASan+UBSan on one
+# core of the development machine (docs/reliability.md has each target's exec/s).
+declare -A ci_runs=([sdv_frontend]=2500 [ir_reader]=15000 [btree]=8000 [gss_scenario]=9000
+                    [lanelet2]=7000 [cosim_frame]=1500 [sweep_results]=15000)
+
+usage() {
+    sed -n '4,8p' "$0" >&2
+    exit 2
+}
+
+target="" minutes=10 preset=fuzz runs="" record="" corpus="" jobs=1 keep_going=0 ci=0 build_it=1
+while [ $# -gt 0 ]; do
+    case $1 in
+        --no-sanitizers) preset=fuzz-nosan ;;
+        --runs) runs=${2:?}; shift ;;
+        --record) record=1 ;;
+        --keep-going) keep_going=1 ;;
+        --ci) ci=1; build_it=0 ;;
+        --no-build) build_it=0 ;;
+        --no-record) record=0 ;;
+        --corpus) corpus=${2:?}; shift ;;
+        --jobs) jobs=${2:?}; shift ;;
+        -h|--help) usage ;;
+        -*) echo "fuzz.sh: unknown option $1" >&2; usage ;;
+        *)
+            if [ -z "$target" ]; then target=$1; else minutes=$1; fi ;;
+    esac
+    shift
+done
+[ -n "$target" ] || usage
+if [ -z "${max_len[$target]:-}" ]; then
+    echo "fuzz.sh: unknown target '$target' (targets: ${targets[*]})" >&2
+    exit 2
+fi
+[ "$ci" = 0 ] || runs=${ci_runs[$target]}
+[ -n "$record" ] || { [ -n "$runs" ] && record=0 || record=1; }
+
+build=$root/build/$preset
+cd "$root"
+if [ "$build_it" = 1 ]; then
+    if [ ! -f "$build/CMakeCache.txt" ]; then
+        cmake --preset "$preset" >/dev/null || exit 2
+    fi
+    cmake --build "$build" --target "fuzz_$target" -j "$(nproc)" >"$build/fuzz-build-$target.log" 2>&1 || {
+        tail -30 "$build/fuzz-build-$target.log" >&2
+        echo "fuzz.sh: building fuzz_$target failed (log: $build/fuzz-build-$target.log)" >&2
+        exit 2
+    }
+fi
+if [ ! -x "$build/fuzz/fuzz_$target" ]; then
+    echo "fuzz.sh: no $build/fuzz/fuzz_$target: build the $preset preset first" >&2
+    exit 2
+fi
+
+# The seed corpus: gathered once (delete the directory to gather again). The inputs are
+# compiled, recorded and swept by the first `sdv` found (an uninstrumented one is faster).
+if [ -z "$corpus" ]; then
+    corpus=$build/corpus
+    if [ ! -d "$corpus/$target" ]; then
+        sdv_dir=""
+        for d in build/ci build/release build/dev build/fuzz; do
+            if [ -x "$d/sdv" ]; then sdv_dir=$d; break; fi
+        done
+        if [ -z "$sdv_dir" ]; then
+            cmake --build "$build" --target sdv -j "$(nproc)" >>"$build/fuzz-build-$target.log" 2>&1 && sdv_dir=$build
+        fi
+        scripts/fuzz-corpus.sh "${sdv_dir:-$build}" "$corpus" >&2
+    fi
+fi
+
+work=$build/fuzz-work/$target
+findings=$build/findings/$target
+mkdir -p "$work" "$findings"
+logs=$(mktemp -d)
+trap 'rm -rf "$logs"' EXIT
+if [ -n "$runs" ]; then
+    # A bounded run starts from the seeds alone, so that it is the same run every time.
+    rm -rf "$work" && mkdir -p "$work"
+    bound=(-runs="$runs" -seed=1)
+else
+    bound=(-max_total_time=$((minutes * 60)))
+fi
+args=("${bound[@]}" -max_len="${max_len[$target]}" -timeout=1 -rss_limit_mb=2048
+      -dict="$root/tests/fuzz/dict/$target.dict" -artifact_prefix="$findings/" -print_final_stats=1)
+# One process by default (as -jobs=1 -workers=1); --jobs N runs N jobs side by side, each in a
+# child process writing fuzz-<k>.log in the working directory; --keep-going runs --jobs
+# children at a time in fork mode.
+if [ "$keep_going" = 1 ]; then
+    args+=(-fork="$jobs" -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1)
+elif [ "$jobs" -gt 1 ]; then
+    args+=(-jobs="$jobs" -workers="$jobs")
+fi
+touch "$logs/start"
+before=$(find "$findings" -type f | wc -l)
+echo "fuzz.sh: fuzz_$target ($preset) ${bound[0]} over $corpus/$target" >&2
+status=0
+(cd "$logs" && UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    "$build/fuzz/fuzz_$target" "${args[@]}" "$work" "$corpus/$target" >"$logs/main.log" 2>&1) || status=$?
+cat "$logs"/fuzz-*.log >"$logs/all.log" 2>/dev/null || true
+cat "$logs/main.log" >>"$logs/all.log"
+after=$(find "$findings" -type f | wc -l)
+crashes=$((after - before))
+
+# The numbers of the run: libFuzzer's final stats (summed over jobs) and the coverage of its
+# last status line; in fork mode its last "#N: cov: ... time: Ts" line.
+read -r execs rate cov ft < <(awk '
+    /stat::number_of_executed_units:/ { execs += $2 }
+    /stat::average_exec_per_sec:/ { rate += $2 }
+    /^#[0-9]+:?[[:space:]].*cov: [0-9]+ ft: [0-9]+/ {
+        for (i = 1; i < NF; i++) { if ($i == "cov:") c = $(i + 1); if ($i == "ft:") f = $(i + 1); if ($i == "time:") t = $(i + 1) }
+        if (c + 0 > cov) cov = c + 0; if (f + 0 > ft) ft = f + 0
+        if ($1 ~ /:$/) { n = substr($1, 2) + 0; if (n > fork_execs) fork_execs = n; sub(/s$/, "", t); fork_time = t + 0 } }
+    END { if (execs == 0 && fork_execs > 0) { execs = fork_execs; rate = fork_time > 0 ? fork_execs / fork_time : 0 }
+          printf "%d %d %d %d\n", execs, rate, cov, ft }' "$logs/all.log")
+grep -E "^(INFO: (seed|.*files found)|#[0-9]+[[:space:]]+(INITED|DONE)|stat::|==[0-9]+==ERROR|SUMMARY|ALARM|sdv fuzz:)" \
+    "$logs/all.log" | head -40 >&2 || true
+if [ "$keep_going" = 1 ] && [ "$crashes" -gt 0 ]; then
+    echo "fuzz.sh: $crashes FINDING(s) in fuzz_$target:" >&2
+    find "$findings" -type f -newer "$logs/start" | sed 's/^/    /' >&2
+elif [ "$status" -ne 0 ] || [ "$crashes" -gt 0 ]; then
+    echo "fuzz.sh: FINDING in fuzz_$target: exit status $status; artifacts:" >&2
+    find "$findings" -type f -newer "$logs/start" | sed 's/^/    /' >&2
+    grep -E -m5 "ERROR|runtime error|sdv fuzz:|ALARM" "$logs/all.log" | sed 's/^/    /' >&2 || true
+    [ "$crashes" -gt 0 ] || crashes=1
+fi
+echo "fuzz.sh: fuzz_$target: $execs executions, $rate exec/s, cov $cov ft $ft, $crashes finding(s)" >&2
+
+if [ "$record" = 1 ]; then
+    doc=$root/docs/reliability.md
+    build_kind=$([ "$preset" = fuzz ] && echo "ASan+UBSan" || echo "no sanitizers")
+    bound_text=${runs:+"$runs runs"}
+    bound_text=${bound_text:-"$minutes min"}
+    [ "$keep_going" = 0 ] || bound_text="$bound_text, fork mode"
+    date=$(date -u +%Y-%m-%d)
+    row="| $target | $build_kind | $execs | $rate | $cov | $ft | $crashes | $bound_text | $date |"
+    python3 - "$doc" "$target" "$build_kind" "$row" <<'PY'
+import pathlib, sys
+doc, target, build, row = pathlib.Path(sys.argv[1]), sys.argv[2], sys.argv[3], sys.argv[4]
+begin, end = "<!-- fuzz-runs:begin -->", "<!-- fuzz-runs:end -->"
+header = ["| target | build | executions | exec/s | coverage (edges) | features | findings | bound | date |",
+          "|---|---|---:|---:|---:|---:|---:|---|---|"]
+text = doc.read_text(encoding="utf-8") if doc.exists() else "# Reliability\n\n" + begin + "\n" + end + "\n"
+if begin not in text:
+    text += "\n" + begin + "\n" + end + "\n"
+head, rest = text.split(begin, 1)
+table, tail = rest.split(end, 1)
+rows = [l for l in table.strip().splitlines() if l.startswith("| ") and not l.startswith("| target ")]
+key = lambda l: [c.strip() for c in l.strip("|").split("|")][:2]
+rows = [l for l in rows if key(l) != [target, build]] + [row]
+rows.sort(key=key)
+doc.write_text(head + begin + "\n" + "\n".join(header + rows) + "\n" + end + tail, encoding="utf-8")
+PY
+    echo "fuzz.sh: recorded in docs/reliability.md" >&2
+fi
+[ "$status" -eq 0 ] && [ "$crashes" -eq 0 ]

@@ -1,0 +1,71 @@
+// Replays, through every fuzz target (targets/targets.h), each file of the committed corpus
+// (corpus/NAME/) and the reproducer of each finding (regressions/NAME/), so that a fixed finding
+// stays fixed in every build, without libFuzzer. A crash, a sanitizer report or a broken
+// property aborts with the file named (doctest prints the INFO context on a crash). An input
+// that takes longer than a budget (10 s, far above the fuzzers' 1 s, so that a Debug build
+// under sanitizers passes; SDV_FUZZ_REPLAY_BUDGET_S overrides it) fails: slowness was a finding.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "tests/fuzz/targets/targets.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Target = int (*)(const uint8_t*, size_t);
+
+// Every regular file under tests/fuzz/{corpus,regressions}/<name>/, in a stable order.
+std::vector<fs::path> inputs(const std::string& name) {
+    std::vector<fs::path> out;
+    for (const char* kind : {"corpus", "regressions"}) {
+        const fs::path dir = fs::path(SDV_FUZZ_DIR) / kind / name;
+        std::error_code ec;
+        if (!fs::is_directory(dir, ec)) continue;
+        for (const auto& e : fs::recursive_directory_iterator(dir)) {
+            if (e.is_regular_file() && e.path().filename().string()[0] != '.') out.push_back(e.path());
+        }
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+double budget_s() {
+    const char* env = std::getenv("SDV_FUZZ_REPLAY_BUDGET_S");
+    return env != nullptr && std::atof(env) > 0 ? std::atof(env) : 10.0;
+}
+
+void replay(const std::string& name, Target target) {
+    const auto files = inputs(name);
+    CHECK_MESSAGE(!files.empty(), "no corpus or regressions for fuzz target " << name);
+    for (const auto& f : files) {
+        INFO("fuzz target ", name, ": ", f.string());
+        std::ifstream in(f, std::ios::binary);
+        REQUIRE(in);
+        const std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+        // A measurement of the test itself, never part of an output.
+        const auto start = std::chrono::steady_clock::now();
+        CHECK(target(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()) == 0);
+        const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
+        CHECK_MESSAGE(took.count() < budget_s(), "took " << took.count() << " s");
+    }
+    MESSAGE(name << ": " << files.size() << " inputs replayed");
+}
+
+}  // namespace
+
+TEST_CASE("sdv_frontend") { replay("sdv_frontend", sdv_fuzz_sdv_frontend); }
+TEST_CASE("ir_reader") { replay("ir_reader", sdv_fuzz_ir_reader); }
+TEST_CASE("btree") { replay("btree", sdv_fuzz_btree); }
+TEST_CASE("gss_scenario") { replay("gss_scenario", sdv_fuzz_gss_scenario); }
+TEST_CASE("lanelet2") { replay("lanelet2", sdv_fuzz_lanelet2); }
+TEST_CASE("cosim_frame") { replay("cosim_frame", sdv_fuzz_cosim_frame); }
+TEST_CASE("sweep_results") { replay("sweep_results", sdv_fuzz_sweep_results); }

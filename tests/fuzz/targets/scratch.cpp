@@ -1,0 +1,105 @@
+// The scratch directory and the failure report of the fuzz targets (scratch.h).
+#include "tests/fuzz/targets/scratch.h"
+
+#include <signal.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace fs = std::filesystem;
+
+namespace sdv::fuzz {
+namespace {
+
+constexpr const char* kPrefix = "sdv-fuzz-";
+
+// Removes the scratch directories of processes that no longer exist (named with their pid).
+void remove_orphans(const fs::path& parent) {
+    std::error_code ec;
+    for (fs::directory_iterator it(parent, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (name.rfind(kPrefix, 0) != 0) continue;
+        const std::string rest = name.substr(std::string(kPrefix).size());
+        const size_t dash = rest.find('-');
+        if (dash == std::string::npos || dash == 0) continue;
+        char* end_ptr = nullptr;
+        const long pid = std::strtol(rest.c_str(), &end_ptr, 10);
+        if (end_ptr != rest.c_str() + dash || pid <= 0) continue;
+        if (kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+        std::error_code ignored;
+        fs::remove_all(it->path(), ignored);
+    }
+}
+
+struct Scratch {
+    fs::path root;
+    Scratch() {
+        std::error_code ec;
+        fs::path parent = "/dev/shm";
+        if (!fs::is_directory(parent, ec) || access(parent.c_str(), W_OK) != 0) parent = fs::temp_directory_path(ec);
+        remove_orphans(parent);
+        std::string templ = (parent / (kPrefix + std::to_string(getpid()) + "-XXXXXX")).string();
+        if (mkdtemp(templ.data()) == nullptr) {
+            std::perror("sdv fuzz: cannot create a scratch directory");
+            std::abort();
+        }
+        root = templ;
+    }
+    ~Scratch() {
+        std::error_code ec;
+        fs::remove_all(root, ec);
+    }
+};
+
+Scratch& scratch() {
+    static Scratch s;
+    return s;
+}
+
+}  // namespace
+
+std::string fresh_dir(const std::string& name) {
+    const fs::path dir = scratch().root / name;
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+    fs::create_directories(dir, ec);
+    if (ec) {
+        std::fprintf(stderr, "sdv fuzz: cannot create %s: %s\n", dir.c_str(), ec.message().c_str());
+        std::abort();
+    }
+    return dir.string();
+}
+
+void write_file(const std::string& path, std::string_view bytes) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!out) {
+        std::fprintf(stderr, "sdv fuzz: cannot write %s\n", path.c_str());
+        std::abort();
+    }
+}
+
+const std::vector<std::string>& btree_library() {
+    static const std::vector<std::string> dirs = [] {
+        std::vector<std::string> out;
+        for (const char* sub : {"sdv", "sp"}) {
+            const fs::path d = fs::path(SDV_SHARED_DIR) / "data" / "geoscenario" / "btrees" / sub;
+            std::error_code ec;
+            if (fs::is_directory(d, ec)) out.push_back(d.lexically_normal().string());
+        }
+        return out;
+    }();
+    return dirs;
+}
+
+void fail(const char* target, const std::string& what) {
+    std::fprintf(stderr, "sdv fuzz: %s: property broken: %s\n", target, what.c_str());
+    std::fflush(stderr);
+    std::abort();
+}
+
+}  // namespace sdv::fuzz

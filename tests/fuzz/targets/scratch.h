@@ -1,0 +1,28 @@
+// What the fuzz targets share: a private scratch directory for the readers that take a path
+// rather than bytes, and the one way to report a broken property.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace sdv::fuzz {
+
+// An empty directory of this process for one target's files: <scratch>/<name>, emptied on
+// every call. The scratch directory is /dev/shm/sdv-fuzz-<pid>-XXXXXX (or under $TMPDIR
+// when /dev/shm is missing), created on first use and removed at exit; ones left behind by
+// processes that died (a crash) are removed the next time a process creates its own.
+std::string fresh_dir(const std::string& name);
+
+// Writes `bytes` to `path`; aborts when it cannot (a broken environment, not a finding).
+void write_file(const std::string& path, std::string_view bytes);
+
+// The directories of the GeoScenario reference's .btree library (../shared/data), those that
+// exist: subtrees named by the inputs resolve there, as with `--btree-path`.
+const std::vector<std::string>& btree_library();
+
+// A broken property of `target`: prints what and aborts, which libFuzzer reports as a crash
+// (and the replay test as a failure).
+[[noreturn]] void fail(const char* target, const std::string& what);
+
+}  // namespace sdv::fuzz
