@@ -96,6 +96,8 @@ if [ -z "$corpus" ]; then
         scripts/fuzz-corpus.sh "${sdv_dir:-$build}" "$corpus" >&2
     fi
 fi
+# The fuzzer runs in a scratch directory: every path it is given must be absolute.
+corpus=$(realpath -m "$corpus")
 
 work=$build/fuzz-work/$target
 findings=$build/findings/$target
