@@ -37,7 +37,6 @@ using Json = nlohmann::ordered_json;
 namespace {
 
 constexpr const char* kFormat = "sdv-sweep/1";
-constexpr size_t kFixedAfterParams = 7;  // passed .. duration
 
 std::string num(double v) {
     if (!std::isfinite(v)) return "";
@@ -450,7 +449,6 @@ std::string gather(const ir::Program& program, int scenario, const std::string& 
         out.rows.push_back(std::move(r));
         out.lines.push_back(std::move(line));
     }
-    (void)kFixedAfterParams;
     return "";
 }
 
