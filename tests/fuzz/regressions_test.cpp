@@ -1,14 +1,12 @@
 // Replays, through every fuzz target (targets/targets.h), each file of the committed corpus
 // (corpus/NAME/) and the reproducer of each finding (regressions/NAME/), so that a fixed finding
 // stays fixed in every build, without libFuzzer. A crash, a sanitizer report or a broken
-// property aborts with the file named (doctest prints the INFO context on a crash). An input
-// that takes longer than a budget (10 s, far above the fuzzers' 1 s, so that a Debug build
-// under sanitizers passes; SDV_FUZZ_REPLAY_BUDGET_S overrides it) fails: slowness was a finding.
+// property aborts with the file named (doctest prints the INFO context on a crash). Slowness is
+// not checked here (a test's verdict must not depend on how busy the machine is): the fuzzers'
+// own -timeout finds slow inputs (scripts/fuzz.sh), and their reproducers bound the work by size.
 #include <doctest/doctest.h>
 
 #include <algorithm>
-#include <chrono>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -38,11 +36,6 @@ std::vector<fs::path> inputs(const std::string& name) {
     return out;
 }
 
-double budget_s() {
-    const char* env = std::getenv("SDV_FUZZ_REPLAY_BUDGET_S");
-    return env != nullptr && std::atof(env) > 0 ? std::atof(env) : 10.0;
-}
-
 void replay(const std::string& name, Target target) {
     const auto files = inputs(name);
     CHECK_MESSAGE(!files.empty(), "no corpus or regressions for fuzz target " << name);
@@ -51,11 +44,7 @@ void replay(const std::string& name, Target target) {
         std::ifstream in(f, std::ios::binary);
         REQUIRE(in);
         const std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-        // A measurement of the test itself, never part of an output.
-        const auto start = std::chrono::steady_clock::now();
         CHECK(target(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()) == 0);
-        const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
-        CHECK_MESSAGE(took.count() < budget_s(), "took " << took.count() << " s");
     }
     MESSAGE(name << ": " << files.size() << " inputs replayed");
 }
