@@ -30,7 +30,11 @@ roadStmt
     | STRAIGHT value                                      # roadStraight
     | ARC value RADIUS value (LEFT | RIGHT)?              # roadArc
     | ORIGIN '(' value ',' value ')' (HEADING value)?     # roadOrigin
+    | crosswalk                                           # roadCrosswalk
     ;
+// A pedestrian crossing: on a road `at` a position along it, on a junction `on` an arm (`at`:
+// its distance from the junction box).
+crosswalk : CROSSWALK ident (ON ident)? (AT value)? (WIDTH value)? SIGNALISED? ;
 laneCount : INT ident ;
 
 junctionDecl : JUNCTION ident '{' junctionStmt* '}' ;
@@ -40,6 +44,7 @@ junctionStmt
     | SPEED_LIMIT value                                   # junctionSpeedLimit
     | ARM_LENGTH value                                    # junctionArmLength
     | CONTROL ident                                       # junctionControl
+    | crosswalk                                           # junctionCrosswalk
     ;
 
 mapDecl : MAP ident '{' mapStmt* '}' ;
@@ -97,7 +102,7 @@ scenarioStmt
     | TIMEOUT value                                       # scenarioTimeout
     | SEED INT                                            # scenarioSeed
     | RATE ident value                                    # scenarioRate
-    | (EGO | VEHICLE) ident ':' ident '{' vehicleStmt* '}'   # scenarioVehicle
+    | (EGO | VEHICLE | PEDESTRIAN) ident ':' ident '{' vehicleStmt* '}'   # scenarioVehicle
     | OBJECT ident '{' vehicleStmt* '}'                   # scenarioObject
     | LIGHT qualName '{' lightStmt* '}'                   # scenarioLight
     | EXPECT expr window?                                 # scenarioExpect
@@ -125,6 +130,7 @@ vehicleStmt
     | ROUTE laneRef (',' laneRef)*                        # vehRoute
     | TREE qualName '(' argList? ')'                      # vehTree
     | TRAJECTORY '{' waypoint* '}'                        # vehTrajectory
+    | PATH '{' pathPoint* '}'                             # vehPath
     ;
 position
     : laneRef AT value (OFFSET value)?                    # lanePosition
@@ -133,6 +139,7 @@ position
 laneRef : LANE (laneIndex | qualName | STRING) ;
 laneIndex : sign='-'? INT ;
 waypoint : value ':' position (SPEED value)? ;
+pathPoint : position (SPEED value)? ;
 
 lightStmt
     : OFFSET value                                        # lightOffset
@@ -158,6 +165,7 @@ ident
     | SAMPLES | SCENARIO | TIMEOUT | SEED | RATE | EGO | VEHICLE | OBJECT | LIGHT | EXPECT
     | START | SPEED | LENGTH | WIDTH | GOAL | ROUTE | TRAJECTORY | AT | OFFSET | LANE | AND | OR
     | LEFT | RIGHT | ENDS | RUN | DURING | AFTER | BEFORE | VARY | IN | SAMPLE | COUNT
+    | PEDESTRIAN | PATH | CROSSWALK | ON | SIGNALISED
     ;
 
 // ---------------------------------------------------------------- lexer
@@ -195,6 +203,11 @@ SEED : 'seed' ;
 RATE : 'rate' ;
 EGO : 'ego' ;
 VEHICLE : 'vehicle' ;
+PEDESTRIAN : 'pedestrian' ;
+PATH : 'path' ;
+CROSSWALK : 'crosswalk' ;
+ON : 'on' ;
+SIGNALISED : 'signalised' ;
 OBJECT : 'object' ;
 LIGHT : 'light' ;
 EXPECT : 'expect' ;

@@ -43,6 +43,15 @@ class Dumper {
 public:
     Dumper(const diag::SourceManager& sm) : sm_(sm) {}
 
+    void crosswalk(const CrosswalkDecl& x) {
+        std::string t = "crosswalk " + x.name.text;
+        if (x.arm) t += " on " + x.arm->text;
+        if (x.at) t += " at " + value(*x.at);
+        if (x.width) t += " width " + value(*x.width);
+        if (x.signalised) t += " signalised";
+        line(1, x.range, t);
+    }
+
     std::string run(const File& f) {
         for (const auto& i : f.imports) {
             line(0, i.range, "import \"" + i.path + "\"" + (i.alias ? " as " + i.alias->text : ""));
@@ -60,10 +69,12 @@ public:
                 if (seg.side) t += " " + seg.side->text;
                 line(1, seg.range, t);
             }
+            for (const auto& x : r.crosswalks) crosswalk(x);
         }
         for (const auto& j : f.junctions) {
             line(0, j.range, "junction " + j.name.text);
             for (const auto& s : j.settings) setting(1, s);
+            for (const auto& x : j.crosswalks) crosswalk(x);
         }
         for (const auto& m : f.maps) {
             line(0, m.range, "map " + m.name.text);
@@ -83,7 +94,7 @@ public:
             line(0, s.range, "scenario " + s.name.text);
             for (const auto& st : s.settings) setting(1, st);
             for (const auto& v : s.vehicles) {
-                line(1, v.range, std::string(v.is_object ? "object " : v.is_ego ? "ego " : "vehicle ") +
+                line(1, v.range, std::string(v.is_object ? "object " : v.is_ego ? "ego " : v.is_pedestrian ? "pedestrian " : "vehicle ") +
                                      v.name.text + ": " + v.kind.text);
                 for (const auto& p : v.starts) line(2, p.range, "start " + position(p));
                 for (const auto& st : v.settings) setting(2, st);
@@ -97,6 +108,11 @@ public:
                 for (const auto& tr : v.trajectories) {
                     for (const auto& w : tr) {
                         line(2, w.range, "waypoint " + value(w.time) + ": " + position(w.position));
+                    }
+                }
+                for (const auto& pa : v.paths) {
+                    for (const auto& w : pa) {
+                        line(2, w.range, "path point " + position(w.position) + (w.speed ? " speed " + value(*w.speed) : ""));
                     }
                 }
             }

@@ -161,18 +161,29 @@ struct LaneCount {
     SourceRange range;
 };
 
+// `crosswalk NAME [on ARM] [at D] [width W] [signalised]` of a road or junction.
+struct CrosswalkDecl {
+    Ident name;
+    std::optional<Ident> arm;
+    std::optional<Value> at, width;
+    std::optional<SourceRange> signalised;
+    SourceRange range;
+};
+
 struct RoadDecl {
     Ident name;
     std::vector<LaneCount> lanes;
     SourceRange lanes_range;
     std::vector<Setting> settings;  // lane_width, speed_limit, origin (2 values), heading
     std::vector<Segment> segments;
+    std::vector<CrosswalkDecl> crosswalks;
     SourceRange range;
 };
 
 struct JunctionDecl {
     Ident name;
     std::vector<Setting> settings;  // lanes, lane_width, speed_limit, arm_length, control
+    std::vector<CrosswalkDecl> crosswalks;
     SourceRange range;
 };
 
@@ -209,6 +220,13 @@ struct Waypoint {
     SourceRange range;
 };
 
+// A point of a `path`: where, and the speed from there on (default: the previous point's).
+struct PathPoint {
+    Position position;
+    std::optional<Value> speed;
+    SourceRange range;
+};
+
 struct TreeRef {
     QualName name;
     std::vector<Arg> args;
@@ -218,8 +236,9 @@ struct TreeRef {
 struct VehicleDecl {
     bool is_ego = false;
     bool is_object = false;  // `object name { ... }`: a static obstacle
+    bool is_pedestrian = false;  // `pedestrian name: kind { ... }`
     Ident name;
-    Ident kind;              // sdv / trajectory / static / external (objects: "static")
+    Ident kind;              // sdv / trajectory / path / static / external (objects: "static"); pedestrians: sdp / path / trajectory
     std::vector<Position> starts;  // more than one is an error
     std::vector<Position> goals;
     bool goal_ends_run = false;     // `goal ... ends run`
@@ -227,6 +246,7 @@ struct VehicleDecl {
     std::vector<std::vector<LaneRef>> routes;
     std::vector<TreeRef> trees;
     std::vector<std::vector<Waypoint>> trajectories;
+    std::vector<std::vector<PathPoint>> paths;
     SourceRange range;
 };
 

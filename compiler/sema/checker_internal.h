@@ -234,6 +234,9 @@ private:
 
     // ---------------------------------------------------------------- expansion (expand.cpp)
     int32_t expand_vehicle_tree(const ast::TreeRef& ref, ScenarioCtx& ctx, ir::Program& program);
+    void check_crosswalks(const std::vector<ast::CrosswalkDecl>& xs, RoadSym& sym, bool junction);
+    void check_tree_agent(const ast::TreeRef& ref, const ir::Vehicle& v, const ir::Program& program);
+    void check_path(const ast::VehicleDecl& v, ir::Vehicle& out, ScenarioCtx& ctx, const std::string& what);
     Env bind(const TreeSym& t, const std::vector<ast::Arg>& args, const Env* caller_env,
              const Env& caller);
     int32_t expand_node(const ast::Node& n, const Env& env, ScenarioCtx& ctx,

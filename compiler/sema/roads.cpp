@@ -186,6 +186,92 @@ void Checker::check_builtin_road(const ast::RoadDecl& r, RoadSym& sym) {
         d->notes.push_back({{}, "a road is at most " + fmt(ir::kMaxRoadLength / 1000) + " km long, its segments together"});
         sym.ok = false;
     }
+    check_crosswalks(r.crosswalks, sym, false);
+}
+
+// Crosswalks: on a road `at` a position along it (required) and `signalised` allowed; on a
+// junction `on` an arm (required) with `at` the gap from the junction box (default 1 m); width
+// 1..20 m (default 3 m).
+void Checker::check_crosswalks(const std::vector<ast::CrosswalkDecl>& xs, RoadSym& sym, bool junction) {
+    ir::Road& road = sym.road;
+    std::map<std::string, const ast::CrosswalkDecl*> seen;
+    for (const auto& x : xs) {
+        const std::string what = "crosswalk '" + x.name.text + "'";
+        if (auto [it, fresh] = seen.emplace(x.name.text, &x); !fresh) {
+            auto* d = error("E0504", x.name.range, "duplicate " + what + " of '" + road.name + "'");
+            d->notes.push_back({it->second->name.range, "first declared here"});
+            sym.ok = false;
+            continue;
+        }
+        ir::Crosswalk c;
+        c.name = x.name.text;
+        c.loc = loc(x.name.range);
+        c.signalised = x.signalised.has_value();
+        auto number = [&](const ast::Value& v, Dim dim, double lo, double hi, const std::string& label) -> std::optional<double> {
+            ParamDef def;
+            def.dim = dim;
+            def.min = lo;
+            def.max = hi;
+            Eval e = eval(v, nullptr, {ParamType::quantity, dim}, label, &def);
+            if (e.kind != Eval::Kind::number) return std::nullopt;
+            if (e.ranged) {
+                error("E0205", v.range, label + " cannot be a range");
+                return std::nullopt;
+            }
+            if (!check_range(e, def, label)) return std::nullopt;
+            return e.num.value;
+        };
+        bool ok = true;
+        if (x.width) {
+            auto w = number(*x.width, Dim::length, 1, 20, "the width of " + what);
+            ok = ok && w.has_value();
+            if (w) c.width = *w;
+        }
+        if (junction) {
+            static const std::vector<std::string> arms = {"north", "east", "south", "west"};
+            if (!x.arm) {
+                auto* d = error("E0301", x.name.range, what + " of junction '" + road.name + "' has no arm");
+                d->notes.push_back({{}, "e.g. 'crosswalk " + x.name.text + " on north'"});
+                ok = false;
+            } else if (std::find(arms.begin(), arms.end(), x.arm->text) == arms.end()) {
+                auto* d = error("E0206", x.arm->range, "unknown junction arm '" + x.arm->text + "'");
+                add_suggestion(*d, x.arm->text, arms);
+                d->notes.push_back({{}, "a junction's arms are north, east, south and west"});
+                ok = false;
+            } else {
+                c.arm = x.arm->text;
+            }
+            c.at = 1.0;
+            if (x.at) {
+                auto a = number(*x.at, Dim::length, 0, std::max(0.0, road.arm_length - c.width - 1), "the gap of " + what + " from the junction");
+                ok = ok && a.has_value();
+                if (a) c.at = *a;
+            }
+            if (x.signalised) {
+                auto* d = error("E0301", *x.signalised, what + ": a junction's crosswalks follow its control");
+                d->notes.push_back({{}, "with 'control traffic_lights' each crosswalk follows the light of the traffic parallel to it"});
+                ok = false;
+            }
+        } else {
+            if (x.arm) {
+                auto* d = error("E0301", x.arm->range, what + ": a road has no arms");
+                d->notes.push_back({{}, "place it along the road: 'crosswalk " + x.name.text + " at 100 m'"});
+                ok = false;
+            }
+            if (!x.at) {
+                auto* d = error("E0301", x.name.range, what + " of road '" + road.name + "' has no position");
+                d->notes.push_back({{}, "e.g. 'crosswalk " + x.name.text + " at 100 m'"});
+                ok = false;
+            } else if (auto a = number(*x.at, Dim::length, 0.5 * c.width, std::max(0.5 * c.width, sym.length - 0.5 * c.width),
+                                       "the position of " + what)) {
+                c.at = *a;
+            } else {
+                ok = false;
+            }
+        }
+        sym.ok = sym.ok && ok;
+        if (ok) road.crosswalks.push_back(std::move(c));
+    }
 }
 
 void Checker::check_junction(const ast::JunctionDecl& j, RoadSym& sym) {
@@ -218,6 +304,7 @@ void Checker::check_junction(const ast::JunctionDecl& j, RoadSym& sym) {
         }
     }
     sym.length = road.arm_length;
+    check_crosswalks(j.crosswalks, sym, true);
 }
 
 void Checker::check_map(const ast::MapDecl& m, RoadSym& sym) {

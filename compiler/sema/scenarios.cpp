@@ -145,7 +145,9 @@ ir::Position Checker::check_position(const ast::Position& p, const ScenarioCtx& 
             d->notes.push_back({ctx.road->range, "road '" + ctx.road->name + "' is " +
                                                      fmt(ctx.road->length) + " m long"});
         }
-        if (std::fabs(out.offset) > ctx.road->road.lane_width * 0.5 + 1e-9 && p.offset) {
+        // A pedestrian may stand beside the lane (on the kerb, a walkway): `what` names it.
+        const bool pedestrian = what.find("pedestrian '") != std::string::npos;
+        if (!pedestrian && std::fabs(out.offset) > ctx.road->road.lane_width * 0.5 + 1e-9 && p.offset) {
             error("E0503", p.offset->range, what + " is outside its lane: the offset exceeds "
                                                    "half the lane width");
         }
@@ -199,22 +201,26 @@ ir::Vehicle Checker::check_vehicle(const ast::VehicleDecl& v, ScenarioCtx& ctx,
     ir::Vehicle out;
     out.name = v.name.text;
     out.is_ego = v.is_ego;
+    out.pedestrian = v.is_pedestrian;
     out.loc = loc(v.name.range);
-    const std::string what = "vehicle '" + v.name.text + "'";
+    const std::string what = (v.is_pedestrian ? "pedestrian '" : "vehicle '") + v.name.text + "'";
     const std::vector<std::string> kinds =
-        v.is_ego ? std::vector<std::string>{"sdv", "trajectory", "external"}
-                 : std::vector<std::string>{"sdv", "trajectory", "external", "static"};
+        v.is_pedestrian ? std::vector<std::string>{"sdp", "path", "trajectory"}
+        : v.is_ego      ? std::vector<std::string>{"sdv", "trajectory", "path", "external"}
+                        : std::vector<std::string>{"sdv", "trajectory", "path", "external", "static"};
     const std::string kind = v.kind.text;
-    if (kind == "sdv") out.kind = ir::VehicleKind::sdv;
+    if (kind == "sdv" || (kind == "sdp" && v.is_pedestrian)) out.kind = ir::VehicleKind::sdv;
     else if (kind == "trajectory") out.kind = ir::VehicleKind::trajectory;
+    else if (kind == "path") out.kind = ir::VehicleKind::path;
     else if (kind == "static") out.kind = ir::VehicleKind::static_object;
     else if (kind == "external") out.kind = ir::VehicleKind::external;
     if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) {
-        auto* d = error("E0113", v.kind.range, "unknown vehicle kind '" + kind + "'");
+        auto* d = error("E0113", v.kind.range, std::string("unknown ") + (v.is_pedestrian ? "pedestrian" : "vehicle") + " kind '" + kind + "'");
         add_suggestion(*d, kind, kinds);
         std::string list;
         for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
-        d->notes.push_back({{}, std::string(v.is_ego ? "the ego" : "a vehicle") + " is one of: " + list});
+        d->notes.push_back({{}, std::string(v.is_pedestrian ? "a pedestrian" : v.is_ego ? "the ego" : "a vehicle") + " is one of: " + list});
+        if (v.is_pedestrian && kind == "sdv") d->notes.push_back({{}, "a simulated pedestrian is an 'sdp' (its tree walks, docs/pedestrians.md)"});
     }
     if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) return out;
     auto set = settings_map(v.settings, {"speed", "length", "width"}, what);
@@ -224,9 +230,11 @@ ir::Vehicle Checker::check_vehicle(const ast::VehicleDecl& v, ScenarioCtx& ctx,
         auto r = setting_number(*s, 0, dim, lo, hi, excl);
         return r.value_or(fallback);
     };
-    out.speed = num(set["speed"], Dim::speed, 0, 100, false, 0.0);
-    out.length = num(set["length"], Dim::length, 0, 30, true, 4.5);
-    out.width = num(set["width"], Dim::length, 0, 5, true, 1.8);
+    out.speed = num(set["speed"], Dim::speed, 0, v.is_pedestrian ? 10 : 100, false, 0.0);
+    // A pedestrian is a disc of the larger of its length and width (Euro NCAP's adult target is
+    // 0.5 m × 0.6 m; the reference's pedestrian radius is 0.27 m).
+    out.length = num(set["length"], Dim::length, 0, v.is_pedestrian ? 2 : 30, true, v.is_pedestrian ? 0.5 : 4.5);
+    out.width = num(set["width"], Dim::length, 0, v.is_pedestrian ? 2 : 5, true, v.is_pedestrian ? 0.5 : 1.8);
     if (v.is_object) {
         out.length = num(set["length"], Dim::length, 0, 100, true, 4.5);
     }
@@ -244,24 +252,34 @@ ir::Vehicle Checker::check_vehicle(const ast::VehicleDecl& v, ScenarioCtx& ctx,
     }
     if (!v.starts.empty()) {
         out.start = check_position(v.starts[0], ctx, "the start of " + what);
-    } else if (out.kind != ir::VehicleKind::trajectory) {
+    } else if (out.kind != ir::VehicleKind::trajectory && out.kind != ir::VehicleKind::path) {
         auto* d = error("E0506", v.name.range, what + " has no start position");
         d->notes.push_back({{}, "add e.g. 'start lane 1 at 20 m'"});
     }
     if (!v.goals.empty()) out.goal = check_position(v.goals[0], ctx, "the goal of " + what);
     out.goal_ends_run = v.goal_ends_run && !v.goals.empty();
-    if (!v.routes.empty()) {
+    if (!v.routes.empty() && v.is_pedestrian) {
+        auto* d = error("E0113", v.routes[0].empty() ? v.name.range : v.routes[0].front().range, "a pedestrian has no route");
+        d->notes.push_back({{}, "it walks to its goal, through the crosswalk its tree selects"});
+    } else if (!v.routes.empty()) {
         for (const auto& l : v.routes[0]) out.route.push_back(resolve_lane(l, ctx, "the route of " + what));
     }
     if (out.kind == ir::VehicleKind::sdv) {
         if (v.trees.empty()) {
-            auto* d = error("E0505", v.name.range, what + " is an sdv but has no tree");
-            d->notes.push_back({{}, "add e.g. 'tree std.drive()' (import \"std/drive.sdv\")"});
+            auto* d = error("E0505", v.name.range, what + " is an " + kind + " but has no tree");
+            d->notes.push_back({{}, v.is_pedestrian ? "add e.g. 'tree std.pedestrian.walk()' (import \"std/pedestrian.sdv\")"
+                                                    : "add e.g. 'tree std.drive()' (import \"std/drive.sdv\")"});
         } else {
             out.tree = expand_vehicle_tree(v.trees[0], ctx, program);
+            if (out.tree >= 0) check_tree_agent(v.trees[0], out, program);
         }
     } else if (!v.trees.empty()) {
-        error("E0113", v.trees[0].range, "only sdv vehicles have trees; " + what + " is " + kind);
+        error("E0113", v.trees[0].range, std::string("only ") + (v.is_pedestrian ? "sdp pedestrians" : "sdv vehicles") + " have trees; " + what + " is " + kind);
+    }
+    if (out.kind == ir::VehicleKind::path) {
+        check_path(v, out, ctx, what);
+    } else if (!v.paths.empty()) {
+        error("E0113", v.paths[0].empty() ? v.name.range : v.paths[0].front().range, "only path agents have a path; " + what + " is " + kind);
     }
     if (out.kind == ir::VehicleKind::trajectory) {
         if (v.trajectories.empty() || v.trajectories[0].size() < 2) {
@@ -303,6 +321,57 @@ ir::Vehicle Checker::check_vehicle(const ast::VehicleDecl& v, ScenarioCtx& ctx,
         error("E0113", v.name.range, "only trajectory vehicles have a trajectory");
     }
     return out;
+}
+
+// A pedestrian walks by pedestrian leaves, a vehicle drives by vehicle leaves: the first leaf of
+// the other kind in the expanded tree is the error, at the tree reference.
+void Checker::check_tree_agent(const ast::TreeRef& ref, const ir::Vehicle& v, const ir::Program& program) {
+    const auto& nodes = program.instances.at(static_cast<size_t>(v.tree)).nodes;
+    for (const auto& n : nodes) {
+        catalog::Agent agent = catalog::Agent::any;
+        std::string leaf;
+        if (n.kind == ir::NodeKind::maneuver) {
+            const auto& m = catalog::maneuvers()[static_cast<size_t>(n.leaf)];
+            agent = m.agent;
+            leaf = "maneuver '" + m.name + "'";
+        } else if (n.kind == ir::NodeKind::condition) {
+            const auto& c = catalog::conditions()[static_cast<size_t>(n.leaf)];
+            agent = c.agent;
+            leaf = "condition '" + c.name + "'";
+        }
+        if (agent == catalog::Agent::any || (agent == catalog::Agent::pedestrian) == v.pedestrian) continue;
+        const std::string file = n.loc.file < program.files.size() ? program.files[n.loc.file] : "?";
+        auto* d = error("E0411", ref.range, "tree '" + ref.name.str() + "' is not a " + (v.pedestrian ? "pedestrian" : "vehicle") +
+                                                "'s tree: its " + leaf + " (" + file + ":" + std::to_string(n.loc.line) + ") is for " +
+                                                (agent == catalog::Agent::pedestrian ? "pedestrians" : "vehicles"));
+        d->notes.push_back({{}, v.pedestrian ? "a pedestrian's tree walks: e.g. 'tree std.pedestrian.walk()' (import \"std/pedestrian.sdv\"); `sdv catalog` lists the leaves for pedestrians"
+                                             : "a vehicle's tree drives: e.g. 'tree std.drive()'; `sdv catalog` lists the leaves for vehicles"});
+        return;
+    }
+}
+
+// The points of a path, each with its speed from there on (speeds left out: the previous one's).
+void Checker::check_path(const ast::VehicleDecl& v, ir::Vehicle& out, ScenarioCtx& ctx, const std::string& what) {
+    if (v.paths.empty() || v.paths[0].size() < 2) {
+        auto* d = error("E0506", v.name.range, what + " needs a path with at least two points");
+        d->notes.push_back({{}, "path { at (0 m, -6 m) speed 1.4 m/s  at (0 m, 6 m) }"});
+        return;
+    }
+    for (const auto& pp : v.paths[0]) {
+        ir::Waypoint wp;
+        wp.time = -1;
+        wp.position = check_position(pp.position, ctx, "a point of the path of " + what);
+        if (pp.speed) {
+            ParamDef sdef;
+            sdef.dim = Dim::speed;
+            sdef.min = 0;
+            sdef.max = 100;
+            Eval sp = eval(*pp.speed, nullptr, {ParamType::quantity, Dim::speed}, "the path speed", &sdef);
+            if (sp.kind == Eval::Kind::number && check_range(sp, sdef, "the path speed")) wp.speed = sp.num.value;
+        }
+        out.trajectory.push_back(wp);
+    }
+    if (v.starts.empty()) out.start = out.trajectory.front().position;
 }
 
 void Checker::check_overlaps(const ast::ScenarioDecl& s, const ir::Scenario& sc) {

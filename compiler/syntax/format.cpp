@@ -27,7 +27,7 @@ void mark(antlr4::tree::ParseTree* t, std::set<size_t>& starts, std::set<size_t>
     const bool statement = dynamic_cast<SdvParser::ItemContext*>(ctx) || dynamic_cast<SdvParser::RoadStmtContext*>(ctx) ||
                            dynamic_cast<SdvParser::JunctionStmtContext*>(ctx) || dynamic_cast<SdvParser::MapStmtContext*>(ctx) ||
                            dynamic_cast<SdvParser::ScenarioStmtContext*>(ctx) || dynamic_cast<SdvParser::VehicleStmtContext*>(ctx) ||
-                           dynamic_cast<SdvParser::LightStmtContext*>(ctx) || dynamic_cast<SdvParser::VaryStmtContext*>(ctx) || dynamic_cast<SdvParser::WaypointContext*>(ctx) ||
+                           dynamic_cast<SdvParser::LightStmtContext*>(ctx) || dynamic_cast<SdvParser::VaryStmtContext*>(ctx) || dynamic_cast<SdvParser::WaypointContext*>(ctx) || dynamic_cast<SdvParser::PathPointContext*>(ctx) ||
                            (dynamic_cast<SdvParser::NodeContext*>(ctx) && !dynamic_cast<SdvParser::DecoratorNodeContext*>(ctx->parent));
     if (statement && ctx->getStart() != nullptr) starts.insert(ctx->getStart()->getTokenIndex());
     if (dynamic_cast<SdvParser::ItemContext*>(ctx) && ctx->getStart() != nullptr) items.insert(ctx->getStart()->getTokenIndex());

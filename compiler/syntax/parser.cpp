@@ -462,6 +462,8 @@ private:
                 if (s6->HEADING()) {
                     r.settings.push_back(setting(s6->HEADING(), {s6->value(2)}, s6));
                 }
+            } else if (auto* s7 = dynamic_cast<SdvParser::RoadCrosswalkContext*>(st)) {
+                r.crosswalks.push_back(crosswalk(s7->crosswalk()));
             }
         }
         return r;
@@ -500,9 +502,24 @@ private:
                 set.values.push_back(std::move(v));
                 set.range = range(s5);
                 j.settings.push_back(std::move(set));
+            } else if (auto* s6 = dynamic_cast<SdvParser::JunctionCrosswalkContext*>(st)) {
+                j.crosswalks.push_back(crosswalk(s6->crosswalk()));
             }
         }
         return j;
+    }
+
+    ast::CrosswalkDecl crosswalk(SdvParser::CrosswalkContext* c) {
+        ast::CrosswalkDecl x;
+        x.name = ident(c->ident(0));
+        if (c->ON()) x.arm = ident(c->ident(1));
+        // The values in order: `at` first when both are written.
+        size_t next = 0;
+        if (c->AT()) x.at = value(c->value(next++));
+        if (c->WIDTH()) x.width = value(c->value(next++));
+        if (c->SIGNALISED()) x.signalised = range(c->SIGNALISED());
+        x.range = range(c);
+        return x;
     }
 
     ast::MapDecl map(SdvParser::MapDeclContext* c) {
@@ -647,6 +664,16 @@ private:
                     wps.push_back(std::move(wp));
                 }
                 v.trajectories.push_back(std::move(wps));
+            } else if (auto* s9 = dynamic_cast<SdvParser::VehPathContext*>(st)) {
+                std::vector<ast::PathPoint> pts;
+                for (auto* w : s9->pathPoint()) {
+                    ast::PathPoint pp;
+                    pp.position = position(w->position());
+                    if (w->SPEED()) pp.speed = value(w->value());
+                    pp.range = range(w);
+                    pts.push_back(std::move(pp));
+                }
+                v.paths.push_back(std::move(pts));
             }
         }
         return v;
@@ -719,6 +746,7 @@ private:
             } else if (auto* vh = dynamic_cast<SdvParser::ScenarioVehicleContext*>(st)) {
                 ast::VehicleDecl v;
                 v.is_ego = vh->EGO() != nullptr;
+                v.is_pedestrian = vh->PEDESTRIAN() != nullptr;
                 v.name = ident(vh->ident(0));
                 v.kind = ident(vh->ident(1));
                 v.range = range(vh);

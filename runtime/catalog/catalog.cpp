@@ -173,6 +173,59 @@ ManeuverDef make_maneuver(std::string name, ManeuverKind kind, std::string doc, 
     return m;
 }
 
+constexpr double kMaxWalkSpeed = 10.0;  // m/s: a sprint
+
+// Pedestrian maneuvers set the walker's intent (where to, how fast); they have no planner
+// parameters. Each is SUCCESS when it could set its intent, FAILURE when it has nothing to act on.
+void add_pedestrian_maneuvers(std::vector<ManeuverDef>& ms) {
+    auto speed = [](double def, const char* doc) {
+        return sampled("speed", Dim::speed, def, 0, 1, 0, kMaxWalkSpeed, doc);
+    };
+    auto add = [&](std::string name, ManeuverKind kind, std::string doc, std::string status,
+                   std::vector<ParamDef> params) {
+        ManeuverDef m{std::move(name), kind, std::move(doc), std::move(status), std::move(params), 1};
+        m.agent = Agent::pedestrian;
+        ms.push_back(std::move(m));
+    };
+    add("walk", ManeuverKind::walk,
+        "walk its way: to the entrance of its target crosswalk (where it stops: `enter_crosswalk` "
+        "steps onto it), along the crosswalk once on it, else straight to its goal (crossing any "
+        "road on the way) and stand there; without a goal, straight ahead",
+        "SUCCESS",
+        {speed(1.4, "desired walking speed"),
+         qty("arrive", Dim::length, DefaultValue{0.3}, 0.05, 10, "distance at which a point of the way counts as reached")});
+    add("stand", ManeuverKind::stand, "stop walking and stand where it is (the social force model "
+        "brings it to rest within about a second)", "SUCCESS", {});
+    add("wait_at_crosswalk", ManeuverKind::wait_at_crosswalk,
+        "walk to the entrance of its target crosswalk and wait there",
+        "SUCCESS; FAILURE without a target crosswalk",
+        {speed(1.4, "walking speed to the entrance")});
+    add("enter_crosswalk", ManeuverKind::enter_crosswalk,
+        "step onto its target crosswalk and walk across it to the far end",
+        "SUCCESS; FAILURE without a target crosswalk",
+        {speed(1.4, "walking speed on the crosswalk")});
+    add("exit_crosswalk", ManeuverKind::exit_crosswalk,
+        "leave the crosswalk at its far end and walk on to the goal (the crosswalk is done)",
+        "SUCCESS; FAILURE without a target crosswalk",
+        {speed(1.4, "walking speed after the crosswalk")});
+    add("turn_back", ManeuverKind::turn_back,
+        "on a crosswalk: walk back to the end it entered by, and wait there",
+        "SUCCESS; FAILURE when not on a crosswalk",
+        {speed(1.4, "walking speed back")});
+    add("select_crosswalk", ManeuverKind::select_crosswalk,
+        "choose the crosswalk to cross by: the nearest on its way, or (by = light) the nearest "
+        "whose pedestrian signal is green, else the nearest",
+        "SUCCESS; FAILURE when no crosswalk is on its way within max_detour",
+        {choice("by", {"nearest", "light"}, 0, "how to choose"),
+         qty("max_detour", Dim::length, DefaultValue{50}, 0, kMaxDistance,
+             "longest detour over walking straight to the goal")});
+    add("speed_up", ManeuverKind::speed_up,
+        "walk on the same way, faster (hurrying across when the signal changes)",
+        "SUCCESS",
+        {qty("factor", Dim::none, DefaultValue{1.5}, 1, 5, "factor on the current desired speed"),
+         qty("max_speed", Dim::speed, DefaultValue{2.5}, 0, kMaxWalkSpeed, "never faster than this", true)});
+}
+
 std::vector<ManeuverDef> build_maneuvers() {
     std::vector<ManeuverDef> ms;
     {
@@ -231,7 +284,9 @@ std::vector<ManeuverDef> build_maneuvers() {
         auto m = make_maneuver(
             "stop", ManeuverKind::stop,
             "stop at the goal, the next stop line, a position, or now (quintic)", "SUCCESS",
-            {sets(ConfigField::stop_at, choice("at", {"goal", "stop_line", "position", "now"}, 3, "where to stop")),
+            {sets(ConfigField::stop_at, choice("at", {"goal", "stop_line", "position", "now", "pedestrian"}, 3,
+                 "where to stop (pedestrian: before the crosswalk of the nearest pedestrian that "
+                 "`pedestrian_crossing` sees, or before the pedestrian itself off a crosswalk)")),
              sets(ConfigField::stop_position, opt_qty("position", Dim::length, 0, kMaxDistance,
                      "s along the lane to stop at (with at = position)")),
              sets(ConfigField::stop_before, qty("distance", Dim::length, DefaultValue{0}, 0, 100,
@@ -256,10 +311,49 @@ std::vector<ManeuverDef> build_maneuvers() {
         }
         ms.push_back(std::move(m));
     }
+    add_pedestrian_maneuvers(ms);
     return ms;
 }
 
 const std::vector<std::string> kLanes3 = {"left", "current", "right"};
+
+void add_pedestrian_conditions(std::vector<ConditionDef>& cs) {
+    auto add = [&](std::string name, ConditionKind kind, std::string doc, std::vector<ParamDef> params) {
+        cs.push_back(ConditionDef{std::move(name), kind, std::move(doc), std::move(params), {}, {}, Agent::pedestrian});
+    };
+    add("has_target_crosswalk", ConditionKind::has_target_crosswalk,
+        "the pedestrian has chosen a crosswalk (select_crosswalk) and not yet left it", {});
+    add("approaching_crosswalk", ConditionKind::approaching_crosswalk,
+        "a crosswalk on its way to the goal (one that crosses a road its straight way crosses, "
+        "within max_detour) has an end within a distance",
+        {qty("distance", Dim::length, DefaultValue{15}, 0, kMaxDistance, "distance to the crosswalk's near end"),
+         qty("max_detour", Dim::length, DefaultValue{50}, 0, kMaxDistance,
+             "longest detour over walking straight to the goal")});
+    add("at_crosswalk_entrance", ConditionKind::at_crosswalk_entrance,
+        "the pedestrian is off its target crosswalk, within a distance of the end it enters by",
+        {qty("distance", Dim::length, DefaultValue{1.5}, 0, 100, "distance to the entrance")});
+    add("on_crosswalk", ConditionKind::on_crosswalk,
+        "the pedestrian has entered its target crosswalk and not yet left it", {});
+    add("crosswalk_exit_reached", ConditionKind::crosswalk_exit_reached,
+        "the pedestrian is on its target crosswalk within a distance of the far end",
+        {qty("distance", Dim::length, DefaultValue{1.5}, 0, 100, "distance to the far end")});
+    add("crosswalk_has_light", ConditionKind::crosswalk_has_light,
+        "its target crosswalk has a pedestrian signal", {});
+    add("pedestrian_light", ConditionKind::pedestrian_light,
+        "the pedestrian signal of its target crosswalk shows a state (a crosswalk without signal "
+        "shows none)",
+        {choice("state", {"red", "yellow", "green"}, std::nullopt, "signal state")});
+    add("can_cross_before_red", ConditionKind::can_cross_before_red,
+        "walking the rest of its target crosswalk at its desired speed takes less than the time "
+        "until its signal turns red, minus a margin (always true without a signal; false on red)",
+        {qty("margin", Dim::time, DefaultValue{0}, 0, 60, "safety margin")});
+    add("accept_gap", ConditionKind::accept_gap,
+        "every vehicle that would cross the pedestrian's way ahead (its target crosswalk, or its "
+        "straight way to the goal) within a distance arrives there later than a time gap, or is "
+        "standing still: the pedestrian accepts the gap",
+        {qty("time", Dim::time, DefaultValue{4}, 0, 60, "smallest accepted time gap"),
+         qty("distance", Dim::length, DefaultValue{80}, 0, kMaxDistance, "vehicles farther than this along their lane are ignored")});
+}
 
 std::vector<ConditionDef> build_conditions() {
     std::vector<ConditionDef> cs;
@@ -389,10 +483,26 @@ std::vector<ConditionDef> build_conditions() {
         "way for another vehicle) is within bounds; a vehicle inside the junction has 0, one "
         "standing still or with none within 300 m never arrives",
         {vehicle("vehicle", false, "whose arrival (default: the driver itself)"),
-         choice("at", {"junction", "stop_line"}, 0, "where to"),
+         choice("at", {"junction", "stop_line", "crossing"}, 0,
+                "where to (crossing: in a pedestrian's tree, where the vehicle's lane meets the "
+                "pedestrian's way; in a vehicle's tree, the next crosswalk)"),
          opt_qty("min", Dim::time, 0, 1e4, "lower bound"),
          opt_qty("max", Dim::time, 0, 1e4, "upper bound")},
         {"min", "max"});
+    add("pedestrian_crossing", ConditionKind::pedestrian_crossing,
+        "a pedestrian is on a crosswalk across the driver's lanes ahead within a distance, or at "
+        "its entrance (within 2 m, not walking away), or inside the driver's lane ahead off any "
+        "crosswalk",
+        {qty("distance", Dim::length, DefaultValue{40}, 0, kMaxDistance, "look-ahead distance")});
+    add_pedestrian_conditions(cs);
+    // Conditions any agent may use: they read time, other agents, or its own goal.
+    for (auto& c : cs) {
+        if (c.kind == ConditionKind::sim_time || c.kind == ConditionKind::wait || c.kind == ConditionKind::distance ||
+            c.kind == ConditionKind::reached_goal || c.kind == ConditionKind::time_to_arrival ||
+            c.kind == ConditionKind::vehicle_moving || c.kind == ConditionKind::vehicle_stopped) {
+            c.agent = Agent::any;
+        }
+    }
     return cs;
 }
 
@@ -477,6 +587,15 @@ std::string fmt_number(double v) {
 }
 
 }  // namespace
+
+std::string_view to_string(Agent agent) {
+    switch (agent) {
+        case Agent::vehicle: return "vehicle";
+        case Agent::pedestrian: return "pedestrian";
+        case Agent::any: return "any";
+    }
+    return "?";
+}
 
 std::string_view to_string(ParamType type) {
     switch (type) {
@@ -608,6 +727,7 @@ nlohmann::ordered_json to_json() {
     for (const auto& m : maneuvers()) {
         nlohmann::ordered_json mj;
         mj["name"] = m.name;
+        mj["for"] = to_string(m.agent);
         mj["doc"] = m.doc;
         mj["returns"] = m.status;
         mj["default_candidates"] = m.default_candidates;
@@ -619,6 +739,7 @@ nlohmann::ordered_json to_json() {
     for (const auto& c : conditions()) {
         nlohmann::ordered_json cj;
         cj["name"] = c.name;
+        cj["for"] = to_string(c.agent);
         cj["doc"] = c.doc;
         cj["params"] = nlohmann::ordered_json::array();
         for (const auto& p : c.params) cj["params"].push_back(param_json(p));
@@ -655,17 +776,25 @@ std::string render_text() {
             out << "\n        " << p.doc << "\n";
         }
     };
-    out << "MANEUVERS\n";
+    out << "MANEUVERS (vehicles)\n";
     for (const auto& m : maneuvers()) {
+        if (m.agent != Agent::vehicle) continue;
         out << "\n  " << m.name << "  (" << m.default_candidates << " candidates by default)\n"
             << "    " << m.doc << "\n    returns " << m.status << "\n";
         params(m.params, true);
     }
-    out << "\n  common to every maneuver:\n";
+    out << "\n  common to every vehicle maneuver:\n";
     params(maneuvers()[0].params, false);
+    out << "\nPEDESTRIAN MANEUVERS\n";
+    for (const auto& m : maneuvers()) {
+        if (m.agent != Agent::pedestrian) continue;
+        out << "\n  " << m.name << "\n    " << m.doc << "\n    returns " << m.status << "\n";
+        params(m.params, false);
+    }
     out << "\nCONDITIONS\n";
     for (const auto& c : conditions()) {
-        out << "\n  " << c.name << "\n    " << c.doc << "\n";
+        out << "\n  " << c.name << "  (for " << (c.agent == Agent::any ? "any agent" : c.agent == Agent::vehicle ? "vehicles" : "pedestrians")
+            << ")\n    " << c.doc << "\n";
         params(c.params, false);
         if (!c.at_least_one_of.empty()) {
             out << "    (at least one of:";
@@ -698,17 +827,28 @@ std::string render_markdown() {
     };
     out << "## Maneuvers\n\n";
     for (const auto& m : maneuvers()) {
+        if (m.agent != Agent::vehicle) continue;
         out << "### `" << m.name << "`\n\n" << m.doc << ". Returns " << m.status << ". "
             << m.default_candidates << " candidate trajectories with the defaults.\n\n";
         table(m.params, true);
     }
     out << "### Common maneuver parameters\n\n"
-        << "Every maneuver also takes these (`stop` has `max_long_acc` 30 m/s²; `reverse` has "
+        << "Every vehicle maneuver also takes these (`stop` has `max_long_acc` 30 m/s²; `reverse` has "
            "`direction` false).\n\n";
     table(maneuvers()[0].params, false);
-    out << "## Conditions\n\n";
+    out << "## Pedestrian maneuvers\n\n"
+        << "The leaves of a pedestrian's (`sdp`) tree: each sets where and how fast the pedestrian "
+           "walks; the social force model moves it (docs/pedestrians.md).\n\n";
+    for (const auto& m : maneuvers()) {
+        if (m.agent != Agent::pedestrian) continue;
+        out << "### `" << m.name << "`\n\n" << m.doc << ". Returns " << m.status << ".\n\n";
+        if (!m.params.empty()) table(m.params, false);
+    }
+    out << "## Conditions\n\n"
+        << "*For*: whose trees may use the condition: vehicles (`sdv`), pedestrians (`sdp`) or any.\n\n";
     for (const auto& c : conditions()) {
-        out << "### `" << c.name << "`\n\n" << c.doc << ".";
+        out << "### `" << c.name << "`\n\n*For " << (c.agent == Agent::any ? "any agent" : c.agent == Agent::vehicle ? "vehicles" : "pedestrians")
+            << ".* " << c.doc << ".";
         if (!c.at_least_one_of.empty()) {
             out << " At least one of";
             for (const auto& n : c.at_least_one_of) out << " `" << n << "`";

@@ -75,8 +75,18 @@ struct ParamDef {
     bool required() const { return !def.has_value() && !optional; }
 };
 
-// The runtime's maneuver kinds, in the order of SPEC §3.6.
-enum class ManeuverKind { keep_velocity, follow, lane_change, cut_in, stop, reverse };
+// Who a leaf is for: a vehicle's tree (SDV), a pedestrian's tree (SDP), or either.
+enum class Agent { vehicle, pedestrian, any };
+std::string_view to_string(Agent agent);
+
+// The runtime's maneuver kinds: the vehicle maneuvers in the order of SPEC §3.6 (planned by the
+// Frenet planner), then the pedestrian maneuvers (they set where and how fast the pedestrian
+// walks; the social force model moves it: docs/pedestrians.md).
+enum class ManeuverKind {
+    keep_velocity, follow, lane_change, cut_in, stop, reverse,
+    walk, stand, wait_at_crosswalk, enter_crosswalk, exit_crosswalk, turn_back, select_crosswalk, speed_up,
+};
+inline constexpr ManeuverKind kFirstPedestrianManeuver = ManeuverKind::walk;
 
 struct ManeuverDef {
     std::string name;
@@ -85,6 +95,7 @@ struct ManeuverDef {
     std::string status;  // what the leaf returns, in words
     std::vector<ParamDef> params;  // kind-specific first, then the common ones
     int default_candidates = 0;    // candidates with all defaults (product of samples)
+    Agent agent = Agent::vehicle;  // vehicle or pedestrian
 
     const ParamDef* find_param(std::string_view name) const;
 };
@@ -113,6 +124,17 @@ enum class ConditionKind {
     wait,
     stopped_at_line,
     time_to_arrival,
+    pedestrian_crossing,
+    // pedestrians
+    has_target_crosswalk,
+    approaching_crosswalk,
+    at_crosswalk_entrance,
+    on_crosswalk,
+    crosswalk_exit_reached,
+    crosswalk_has_light,
+    pedestrian_light,
+    can_cross_before_red,
+    accept_gap,
 };
 
 struct ConditionDef {
@@ -124,6 +146,7 @@ struct ConditionDef {
     std::vector<std::string> at_least_one_of;
     // Parameters that exclude each other (e.g. gap: vehicle / lane).
     std::vector<std::string> exclusive;
+    Agent agent = Agent::vehicle;  // whose trees may use it
 
     const ParamDef* find_param(std::string_view name) const;
 };

@@ -29,6 +29,7 @@ int type_of(const ir::Vehicle& v) {
         case ir::VehicleKind::sdv: return 1;
         case ir::VehicleKind::external: return 2;
         case ir::VehicleKind::trajectory: return 3;
+        case ir::VehicleKind::path: return 5;  // PV (Vehicle.py)
         case ir::VehicleKind::static_object: return 0;
     }
     return 0;

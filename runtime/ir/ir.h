@@ -104,6 +104,17 @@ struct Segment {
     double radius = 0.0;  // signed: > 0 turns left
 };
 
+// A crosswalk of a built-in road (`at`: along the reference line) or junction (`arm`, `at`: its
+// near edge's distance from the junction box).
+struct Crosswalk {
+    std::string name;
+    std::string arm;  // junction: north | east | south | west
+    double at = 0.0;
+    double width = 3.0;
+    bool signalised = false;
+    SourceLoc loc;
+};
+
 struct Road {
     RoadKind kind = RoadKind::road;
     std::string name;
@@ -117,6 +128,7 @@ struct Road {
     // junction (lanes_forward = lanes per direction)
     double arm_length = 100.0;
     std::string control;  // stop_signs | traffic_lights | none
+    std::vector<Crosswalk> crosswalks;  // road and junction
     // lanelet2
     std::string map_file;  // path as resolved at compile time
     double origin_lat = 0.0, origin_lon = 0.0, origin_alt = 0.0;
@@ -124,7 +136,10 @@ struct Road {
     SourceLoc loc;
 };
 
-enum class VehicleKind { sdv, trajectory, static_object, external };
+// How an agent moves: its tree (sdv; a pedestrian's tree: "sdp"), time-stamped waypoints
+// (trajectory), waypoints with speeds (path: timed by the runtime once it has placed them),
+// not at all (static), or by a co-simulation client (external).
+enum class VehicleKind { sdv, trajectory, static_object, external, path };
 
 struct Position {
     bool xy = false;
@@ -142,9 +157,11 @@ struct Waypoint {
     double speed = -1.0;  // < 0: derived from the neighbouring waypoints
 };
 
+// An agent of a scenario: a vehicle, a static object or (`pedestrian`) a pedestrian.
 struct Vehicle {
     std::string name;
     VehicleKind kind = VehicleKind::sdv;
+    bool pedestrian = false;
     bool is_ego = false;
     double length = 4.5;
     double width = 1.8;
@@ -154,7 +171,7 @@ struct Vehicle {
     bool goal_ends_run = false;  // reaching the goal ends the run (GeoScenario's goal_ends_simulation)
     std::vector<std::string> route;  // lane names
     int32_t tree = -1;               // index into Program::instances; sdv only
-    std::vector<Waypoint> trajectory;
+    std::vector<Waypoint> trajectory;  // path: the points, with time < 0 and their speeds
     SourceLoc loc;
 };
 

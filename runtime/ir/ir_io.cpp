@@ -19,7 +19,7 @@ using Json = nlohmann::ordered_json;
 const char* kNodeKinds[] = {"fallback", "sequence", "reactive_sequence", "parallel",
                             "condition", "maneuver", "not", "once", "latch"};
 const char* kRoadKinds[] = {"road", "junction", "lanelet2"};
-const char* kVehicleKinds[] = {"sdv", "trajectory", "static", "external"};
+const char* kVehicleKinds[] = {"sdv", "trajectory", "static", "external", "path"};
 const char* kVaryKinds[] = {"set", "range", "normal", "uniform"};
 const char* kVarySamples[] = {"grid", "random", "latin"};
 const char* kMethods[] = {"linear", "uniform", "normal"};
@@ -122,6 +122,15 @@ Json position_json(const Position& p) {
     return j;
 }
 
+Json crosswalks_json(const std::vector<Crosswalk>& cs) {
+    Json out = Json::array();
+    for (const auto& c : cs) {
+        out.push_back({{"name", c.name}, {"arm", c.arm}, {"at", c.at}, {"width", c.width},
+                       {"signalised", c.signalised}, {"loc", loc_json(c.loc)}});
+    }
+    return out;
+}
+
 Json program_json(const Program& p) {
     Json j;
     j["files"] = p.files;
@@ -159,6 +168,7 @@ Json program_json(const Program& p) {
                     segs.push_back(sj);
                 }
                 rj["segments"] = segs;
+                if (!r.crosswalks.empty()) rj["crosswalks"] = crosswalks_json(r.crosswalks);
                 break;
             }
             case RoadKind::junction:
@@ -167,6 +177,7 @@ Json program_json(const Program& p) {
                 rj["speed_limit"] = r.speed_limit;
                 rj["arm_length"] = r.arm_length;
                 rj["control"] = r.control;
+                if (!r.crosswalks.empty()) rj["crosswalks"] = crosswalks_json(r.crosswalks);
                 break;
             case RoadKind::lanelet2:
                 rj["map_file"] = r.map_file;
@@ -192,6 +203,7 @@ Json program_json(const Program& p) {
             Json vj;
             vj["name"] = v.name;
             vj["kind"] = kVehicleKinds[static_cast<int>(v.kind)];
+            if (v.pedestrian) vj["pedestrian"] = true;
             vj["ego"] = v.is_ego;
             vj["length"] = v.length;
             vj["width"] = v.width;
@@ -524,6 +536,7 @@ public:
                 }
                 if (total > kMaxRoadLength) fail(rp + ".segments: the road is longer than 100 km");
                 if (!(r.lane_width > 0 && r.lane_width <= 10)) fail(rp + ".lane_width: out of range");
+                if (has(rj, "crosswalks")) r.crosswalks = crosswalks(rj["crosswalks"], rp + ".crosswalks", p.files.size());
             } else if (r.kind == RoadKind::junction) {
                 r.lanes_forward = static_cast<int32_t>(integer(field(rj, "lanes", rp), rp + ".lanes", 1, 4));
                 r.lane_width = number(field(rj, "lane_width", rp), rp + ".lane_width");
@@ -532,6 +545,7 @@ public:
                 if (!(r.arm_length > 0 && r.arm_length <= kMaxRoadLength)) fail(rp + ".arm_length: out of range");
                 if (!(r.lane_width > 0 && r.lane_width <= 10)) fail(rp + ".lane_width: out of range");
                 r.control = string(field(rj, "control", rp), rp + ".control");
+                if (has(rj, "crosswalks")) r.crosswalks = crosswalks(rj["crosswalks"], rp + ".crosswalks", p.files.size());
             } else {
                 r.map_file = string(field(rj, "map_file", rp), rp + ".map_file");
                 if (has(rj, "origin")) {
@@ -557,6 +571,24 @@ public:
         return p;
     }
 
+    std::vector<Crosswalk> crosswalks(const Json& j, const std::string& path, size_t nf) {
+        const Json& a = array(j, path);
+        std::vector<Crosswalk> out;
+        for (size_t k = 0; k < a.size(); ++k) {
+            const std::string cp = path + "[" + std::to_string(k) + "]";
+            Crosswalk c;
+            c.name = string(field(a[k], "name", cp), cp + ".name");
+            c.arm = string(field(a[k], "arm", cp), cp + ".arm");
+            c.at = number(field(a[k], "at", cp), cp + ".at");
+            c.width = number(field(a[k], "width", cp), cp + ".width");
+            c.signalised = boolean(field(a[k], "signalised", cp), cp + ".signalised");
+            c.loc = loc(field(a[k], "loc", cp), cp + ".loc", nf);
+            if (!(c.width >= 1 && c.width <= 20) || !(c.at >= 0 && c.at <= kMaxRoadLength)) fail(cp + ": out of range");
+            out.push_back(std::move(c));
+        }
+        return out;
+    }
+
     Scenario scenario(const Json& j, const std::string& sp, const Program& p) {
         const size_t nf = p.files.size();
         Scenario s;
@@ -579,6 +611,10 @@ public:
             Vehicle v;
             v.name = string(field(vj, "name", vp), vp + ".name");
             v.kind = static_cast<VehicleKind>(enumeration(field(vj, "kind", vp), kVehicleKinds, vp + ".kind"));
+            if (has(vj, "pedestrian")) v.pedestrian = boolean(vj["pedestrian"], vp + ".pedestrian");
+            if (v.pedestrian && (v.kind == VehicleKind::static_object || v.kind == VehicleKind::external)) {
+                fail(vp + ".kind: a pedestrian is an sdp, path or trajectory agent");
+            }
             v.is_ego = boolean(field(vj, "ego", vp), vp + ".ego");
             v.length = number(field(vj, "length", vp), vp + ".length");
             v.width = number(field(vj, "width", vp), vp + ".width");

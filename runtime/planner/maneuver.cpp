@@ -63,7 +63,7 @@ bool set_field(ManeuverConfig& c, catalog::ConfigField field, const Sampled& num
             c.gap_from_reference = choice == 1;
             return true;
         case F::stop_at:
-            if (choice < 0 || choice > static_cast<int>(StopTarget::now)) return false;
+            if (choice < 0 || choice > static_cast<int>(StopTarget::pedestrian)) return false;
             c.stop_at = static_cast<StopTarget>(choice);
             return true;
         case F::stop_position: c.stop_position = v; return true;
@@ -151,6 +151,14 @@ int candidate_count(const ManeuverConfig& c) {
         case ManeuverKind::lane_change: return n(c.duration) * lat;
         case ManeuverKind::cut_in: return n(c.duration) * n(c.delta_s) * lat;
         case ManeuverKind::stop: return n(c.duration_factor) * lat;
+        case ManeuverKind::walk:
+        case ManeuverKind::stand:
+        case ManeuverKind::wait_at_crosswalk:
+        case ManeuverKind::enter_crosswalk:
+        case ManeuverKind::exit_crosswalk:
+        case ManeuverKind::turn_back:
+        case ManeuverKind::select_crosswalk:
+        case ManeuverKind::speed_up: return 0;  // pedestrians: no planner candidates
     }
     return 0;
 }

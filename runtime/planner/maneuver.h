@@ -13,7 +13,7 @@ namespace sdv::planner {
 
 using catalog::ManeuverKind;
 
-enum class StopTarget { goal, stop_line, position, now };
+enum class StopTarget { goal, stop_line, position, now, pedestrian };
 enum class LaneTarget { left, right, route, current, target };
 
 struct CommonConfig {

@@ -315,6 +315,19 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
                         sp = Poly::quintic(st.s, st.s_d, st.s_dd, st.s + stop_ds, 0.0, 0.0, T);
                         break;
                     }
+                    // Pedestrian maneuvers never reach the planner (the checker keeps them out
+                    // of vehicles' trees); keeping the speed is the harmless answer.
+                    case ManeuverKind::walk:
+                    case ManeuverKind::stand:
+                    case ManeuverKind::wait_at_crosswalk:
+                    case ManeuverKind::enter_crosswalk:
+                    case ManeuverKind::exit_crosswalk:
+                    case ManeuverKind::turn_back:
+                    case ManeuverKind::select_crosswalk:
+                    case ManeuverKind::speed_up:
+                        target_v = st.s_d;
+                        sp = Poly::quartic(st.s, st.s_d, st.s_dd, target_v, 0.0, T);
+                        break;
                 }
                 const Poly dp = Poly::quintic(st.d, st.d_d, st.d_dd, target_d, 0.0, 0.0, T);
                 cand.duration = T;

@@ -9,6 +9,148 @@ namespace {
 
 constexpr double kStep = 0.5;  // m between sampled points
 constexpr double kMaxLength = 1e5;
+// Crosswalk ends lie this far beyond the outermost lane edges (on the kerb); stop lines this far
+// before a crosswalk.
+constexpr double kKerb = 2.0;
+constexpr double kStopGap = 1.0;
+
+struct Arm {
+    const char* name;
+    Vec2 dir;  // from the centre outwards
+};
+const Arm kArms[4] = {{"north", {0, 1}}, {"east", {1, 0}}, {"south", {0, -1}}, {"west", {-1, 0}}};
+
+int arm_index(const std::string& name) {
+    for (int a = 0; a < 4; ++a) {
+        if (name == kArms[a].name) return a;
+    }
+    return -1;
+}
+
+// Points from a to b at most kStep apart.
+std::vector<Vec2> sampled_line(Vec2 a, Vec2 b) {
+    std::vector<Vec2> pts;
+    const int m = std::max(1, static_cast<int>(std::ceil(distance(a, b) / kStep)));
+    for (int i = 0; i <= m; ++i) pts.push_back(a + (static_cast<double>(i) / m) * (b - a));
+    return pts;
+}
+
+// The checks every crosswalk spec shares, by road or junction: name and width, and names
+// unique. `where` prefixes each message ("road 'r'").
+void validate_crosswalk_basics(const std::vector<CrosswalkSpec>& cws, const std::string& where,
+                               std::vector<std::string>& errs) {
+    for (size_t i = 0; i < cws.size(); ++i) {
+        const auto& c = cws[i];
+        const std::string at = where + ": crosswalk '" + c.name + "'";
+        if (c.name.empty()) errs.push_back(where + ": crosswalk " + std::to_string(i + 1) + " has no name");
+        if (!(c.width_m >= 1 && c.width_m <= 20)) errs.push_back(at + ": width must be 1..20 m");
+        for (size_t k = 0; k < i; ++k) {
+            if (cws[k].name == c.name) errs.push_back(at + ": defined twice");
+        }
+    }
+}
+
+// Two crosswalks whose strips overlap, by the position of their centre lines along the same
+// line (the road's reference line, or the distance out along a junction arm).
+bool strips_overlap(double pos_a, double width_a, double pos_b, double width_b) {
+    return std::fabs(pos_a - pos_b) < 0.5 * (width_a + width_b);
+}
+
+void validate_road_crosswalks(const RoadSpec& s, double length, std::vector<std::string>& errs) {
+    const std::string where = "road '" + s.name + "'";
+    validate_crosswalk_basics(s.crosswalks, where, errs);
+    for (size_t i = 0; i < s.crosswalks.size(); ++i) {
+        const auto& c = s.crosswalks[i];
+        const std::string at = where + ": crosswalk '" + c.name + "'";
+        // The whole strip lies on the road.
+        if (!(c.s_m >= 0.5 * c.width_m && c.s_m <= length - 0.5 * c.width_m)) {
+            errs.push_back(at + ": s = " + std::to_string(c.s_m) + " m is outside the road (its strip must lie within 0.." +
+                           std::to_string(length) + " m)");
+        }
+        for (size_t k = 0; k < i; ++k) {
+            const auto& o = s.crosswalks[k];
+            if (strips_overlap(c.s_m, c.width_m, o.s_m, o.width_m) && std::isfinite(c.width_m) && std::isfinite(o.width_m)) {
+                errs.push_back(at + ": overlaps crosswalk '" + o.name + "' (closer than their widths)");
+            }
+        }
+    }
+}
+
+// Position and heading of a built-in road's reference line at s, exactly as road_reference
+// samples it.
+std::pair<Vec2, double> reference_pose(const RoadSpec& spec, double s) {
+    Vec2 p = spec.origin;
+    double th = spec.heading_rad;
+    for (const auto& g : spec.segments) {
+        const double ds = std::min(s, g.length_m);
+        if (g.kind == Segment::straight) {
+            p = p + ds * Vec2{std::cos(th), std::sin(th)};
+        } else {
+            const double r = g.radius_m;
+            const Vec2 c = p + r * Vec2{-std::sin(th), std::cos(th)};
+            th += ds / r;
+            p = c + r * Vec2{std::sin(th), -std::cos(th)};
+        }
+        s -= ds;
+        if (s <= 0) break;
+    }
+    return {p, th};
+}
+
+// A straight crosswalk strip whose centre line runs from a to b.
+Crosswalk make_crosswalk(std::string name, Vec2 a, Vec2 b, double width) {
+    Crosswalk cw;
+    cw.name = std::move(name);
+    cw.centre = sampled_line(a, b);
+    cw.left_bound = offset_polyline(cw.centre, 0.5 * width);
+    cw.right_bound = offset_polyline(cw.centre, -0.5 * width);
+    cw.width = width;
+    return cw;
+}
+
+// The s at which lane `id` enters the (straight) strip of `cw`, walking back from where it
+// crosses the centre line at `s_cross` to the last point outside the strip, then bisecting.
+double entry_s(const RoadNetwork& net, LaneId id, const Crosswalk& cw, double s_cross) {
+    const auto& ref = net.reference(id);
+    const Vec2 c0 = cw.centre.front(), dir = cw.centre.back() - cw.centre.front();
+    const Vec2 n = (1.0 / norm(dir)) * Vec2{-dir.y, dir.x};
+    auto inside = [&](double s) { return std::fabs(dot(ref.point(s) - c0, n)) < 0.5 * cw.width; };
+    double in = s_cross, out = s_cross;
+    for (double step = 0.1; out > 0 && inside(out); step *= 1.5) {
+        in = out;
+        out = std::max(0.0, out - step);
+    }
+    if (inside(out)) return 0.0;  // the lane starts inside the strip
+    for (int i = 0; i < 50; ++i) {
+        const double mid = 0.5 * (in + out);
+        (inside(mid) ? in : out) = mid;
+    }
+    return 0.5 * (in + out);
+}
+
+// Where lane `id`'s stop line for `cw` goes: kStopGap before it enters the strip (negative when
+// there is no room on the lane).
+double stop_s_before(const RoadNetwork& net, LaneId id, const Crosswalk& cw, double s_cross) {
+    return entry_s(net, id, cw, s_cross) - kStopGap;
+}
+
+// Sets the lane's stop line to `stop` unless it has one nearer its start. A lane holds one stop
+// line, so it keeps the first one a vehicle meets (a later crosswalk on the same lane still has
+// its crossing, where vehicles yield, but no stop line of its own). Returns whether it is set.
+bool keep_stop_line(Lane& lane, double stop) {
+    if (lane.stop_line_s && *lane.stop_line_s <= stop) return false;
+    lane.stop_line_s = stop;
+    return true;
+}
+
+// The crossing of lane `id` by `cw` (the first, by s; nullptr if none).
+const Crosswalk::Crossing* crossing_of(const Crosswalk& cw, LaneId id) {
+    const Crosswalk::Crossing* best = nullptr;
+    for (const auto& c : cw.crossings) {
+        if (c.lane == id && (!best || c.s < best->s)) best = &c;
+    }
+    return best;
+}
 
 std::vector<std::string> validate(const RoadSpec& s) {
     std::vector<std::string> errs;
@@ -37,7 +179,122 @@ std::vector<std::string> validate(const RoadSpec& s) {
         total += g.length_m;
     }
     if (!(total <= kMaxLength)) errs.push_back("road '" + s.name + "': longer than 100 km");
+    validate_road_crosswalks(s, total, errs);
     return errs;
+}
+
+void validate_junction_crosswalks(const JunctionSpec& s, std::vector<std::string>& errs) {
+    const std::string where = "junction '" + s.name + "'";
+    validate_crosswalk_basics(s.crosswalks, where, errs);
+    for (size_t i = 0; i < s.crosswalks.size(); ++i) {
+        const auto& c = s.crosswalks[i];
+        const std::string at = where + ": crosswalk '" + c.name + "'";
+        if (arm_index(c.arm) < 0) errs.push_back(at + ": unknown arm '" + c.arm + "' (expected north, east, south or west)");
+        // The strip and the stop line before it fit on the arm.
+        const double max_gap = s.arm_length_m - c.width_m - kStopGap;
+        if (!(c.gap_m >= 0 && c.gap_m <= max_gap)) {
+            errs.push_back(at + ": gap must be 0.." + std::to_string(std::max(0.0, max_gap)) +
+                           " m (the crosswalk and the stop line before it must fit on the arm)");
+        }
+        for (size_t k = 0; k < i; ++k) {
+            const auto& o = s.crosswalks[k];
+            if (o.arm == c.arm && strips_overlap(c.gap_m + 0.5 * c.width_m, c.width_m, o.gap_m + 0.5 * o.width_m, o.width_m)) {
+                errs.push_back(at + ": overlaps crosswalk '" + o.name + "' (closer than their widths)");
+            }
+        }
+    }
+}
+
+// A signalised road crosswalk's light: the vehicles' light, named as the crosswalk, on every
+// lane it crosses, each with a stop line before it; pedestrians walk while it is red.
+void add_road_crosswalk_light(RoadNetwork& net, Crosswalk& cw, Vec2 position, const std::string& at,
+                              std::vector<std::string>& errs) {
+    TrafficLight tl;
+    tl.id = static_cast<int32_t>(net.lights.size());
+    tl.name = cw.name;
+    tl.position = position;
+    for (const auto& x : cw.crossings) {
+        const double stop = stop_s_before(net, x.lane, cw, x.s);
+        Lane& lane = net.lane_mut(x.lane);
+        if (stop < 0) {
+            errs.push_back(at + ": no room for the stop line before it on lane '" + lane.name + "'");
+            continue;
+        }
+        tl.lanes.push_back(x.lane);
+        // The light of the lane's stop line comes first (what the simulator reads).
+        if (keep_stop_line(lane, stop)) {
+            lane.traffic_lights.insert(lane.traffic_lights.begin(), tl.id);
+        } else {
+            lane.traffic_lights.push_back(tl.id);
+        }
+    }
+    cw.light = tl.id;
+    cw.light_inverse = true;
+    net.lights.push_back(std::move(tl));
+}
+
+// The crosswalks of a road: across all its lanes at s_m, perpendicular to the reference line,
+// from the right kerb to the left one. A strip that does not cross every lane exactly once (a
+// bend too tight for it) is an error.
+void add_road_crosswalks(const RoadSpec& spec, BuildResult& out) {
+    RoadNetwork& net = out.network;
+    const double right = spec.lanes_forward * spec.lane_width_m + kKerb;
+    const double left = spec.lanes_backward * spec.lane_width_m + kKerb;
+    std::vector<Vec2> positions;
+    for (const auto& c : spec.crosswalks) {
+        const auto [p, th] = reference_pose(spec, c.s_m);
+        const Vec2 normal{-std::sin(th), std::cos(th)};
+        net.crosswalks.push_back(make_crosswalk(spec.name + "." + c.name, p - right * normal, p + left * normal, c.width_m));
+        positions.push_back(p);
+    }
+    find_crossings(net);
+    for (size_t i = 0; i < spec.crosswalks.size(); ++i) {
+        const auto& c = spec.crosswalks[i];
+        Crosswalk& cw = net.crosswalks[i];
+        const std::string at = "road '" + spec.name + "': crosswalk '" + c.name + "'";
+        bool once = true;
+        for (const auto& l : net.lanes()) {
+            const auto times = std::count_if(cw.crossings.begin(), cw.crossings.end(), [&](const auto& x) { return x.lane == l.id; });
+            if (times != 1) {
+                out.errors.push_back(at + ": crosses lane '" + l.name + "' " + std::to_string(times) +
+                                     " times, not once (the road bends too tightly there)");
+                once = false;
+            }
+        }
+        if (c.signalised && once) add_road_crosswalk_light(net, cw, positions[i], at, out.errors);
+    }
+}
+
+// The crosswalks of a junction: across an arm's lanes, both ways, `gap_m` out from the junction
+// box, centre line running counter-clockwise around the junction. The arm's incoming lanes stop
+// before it; with traffic lights it follows the light of the traffic parallel to it.
+void add_junction_crosswalks(const JunctionSpec& spec, const std::vector<std::vector<LaneId>>& incoming, BuildResult& out) {
+    RoadNetwork& net = out.network;
+    const double half = spec.lanes_per_direction * spec.lane_width_m;
+    for (const auto& c : spec.crosswalks) {
+        const int a = arm_index(c.arm);
+        const Vec2 u = kArms[a].dir, across{-u.y, u.x};
+        const Vec2 mid = (half + c.gap_m + 0.5 * c.width_m) * u;
+        Crosswalk cw = make_crosswalk(spec.name + "." + c.name, mid - (half + kKerb) * across, mid + (half + kKerb) * across, c.width_m);
+        if (spec.control == JunctionSpec::traffic_lights) {
+            // North and south arms are walked east–west, alongside the east–west traffic.
+            const std::string parallel = spec.name + (a % 2 == 0 ? ".ew" : ".ns");
+            for (const auto& tl : net.lights) {
+                if (tl.name == parallel) cw.light = tl.id;
+            }
+        }
+        net.crosswalks.push_back(std::move(cw));
+    }
+    find_crossings(net);
+    for (size_t i = 0; i < spec.crosswalks.size(); ++i) {
+        const Crosswalk& cw = net.crosswalks[i];
+        for (LaneId l : incoming[static_cast<size_t>(arm_index(spec.crosswalks[i].arm))]) {
+            const Crosswalk::Crossing* x = crossing_of(cw, l);
+            if (!x) continue;
+            const double stop = stop_s_before(net, l, cw, x->s);
+            if (stop >= 0) keep_stop_line(net.lane_mut(l), stop);
+        }
+    }
 }
 
 }  // namespace
@@ -103,6 +360,7 @@ BuildResult build_road(const RoadSpec& spec) {
     if (spec.lanes_forward > 0 && spec.lanes_backward > 0) {
         out.network.set_neighbours(fwd[static_cast<size_t>(spec.lanes_forward)], bwd[1], false);
     }
+    add_road_crosswalks(spec, out);  // last: it finds the crossings of the complete network
     return out;
 }
 
@@ -115,22 +373,15 @@ BuildResult build_junction(const JunctionSpec& spec) {
         out.errors.push_back("junction '" + j + "': invalid dimensions");
         return out;
     }
+    validate_junction_crosswalks(spec, out.errors);
+    if (!out.errors.empty()) return out;
     const int n = spec.lanes_per_direction;
     const double w = spec.lane_width_m;
     const double half = n * w;  // half the junction box
     const double L = spec.arm_length_m;
-    struct Arm {
-        const char* name;
-        Vec2 dir;  // from the centre outwards
-    };
-    const Arm arms[4] = {{"north", {0, 1}}, {"east", {1, 0}}, {"south", {0, -1}}, {"west", {-1, 0}}};
+    const auto& arms = kArms;
     auto suffix = [&](int k) { return n > 1 ? "." + std::to_string(k) : std::string(); };
-    auto line = [](Vec2 a, Vec2 b) {
-        std::vector<Vec2> pts;
-        const int m = std::max(1, static_cast<int>(std::ceil(distance(a, b) / kStep)));
-        for (int i = 0; i <= m; ++i) pts.push_back(a + (static_cast<double>(i) / m) * (b - a));
-        return pts;
-    };
+    const auto line = sampled_line;
     LaneId in[4][5], outl[4][5];
     for (int a = 0; a < 4; ++a) {
         const Vec2 u = arms[a].dir;
@@ -233,6 +484,9 @@ BuildResult build_junction(const JunctionSpec& spec) {
             out.network.lights.push_back(std::move(tl));
         }
     }
+    std::vector<std::vector<LaneId>> incoming(4);
+    for (int a = 0; a < 4; ++a) incoming[static_cast<size_t>(a)].assign(&in[a][1], &in[a][n + 1]);
+    add_junction_crosswalks(spec, incoming, out);  // last: it finds the crossings of the complete network
     out.length = L;
     return out;
 }

@@ -29,6 +29,21 @@ struct Segment {
     double radius_m = 0;  // arc: > 0 turns left, < 0 right
 };
 
+// A crosswalk of a built-in road or junction.
+struct CrosswalkSpec {
+    std::string name;     // local: the network names it "<road>.<name>"
+    double s_m = 0;       // road: position of its centre line along the reference line
+    std::string arm;      // junction: north | east | south | west
+    double gap_m = 1.0;   // junction: from the junction box to its near edge
+    double width_m = 3.0;
+    // Road: a traffic light "<road>.<name>" controls the lanes before it (stop lines 1 m before
+    // its edge, both directions); pedestrians walk while it is red (Crosswalk::light_inverse).
+    // Junction: with traffic lights the crosswalk on an arm follows the light of the traffic
+    // parallel to it (the north and south arms' crosswalks: "<j>.ew"); stop lines move back
+    // to 1 m before it.
+    bool signalised = false;
+};
+
 struct RoadSpec {
     std::string name;
     int lanes_forward = 1, lanes_backward = 0;
@@ -37,6 +52,7 @@ struct RoadSpec {
     Vec2 origin{0, 0};
     double heading_rad = 0;
     std::vector<Segment> segments;
+    std::vector<CrosswalkSpec> crosswalks;
 };
 
 struct JunctionSpec {
@@ -48,6 +64,7 @@ struct JunctionSpec {
     // stop_signs: an all-way stop; two_way_stops: the north and south arms stop and yield to
     // the east and west arms, which have priority.
     enum Control { stop_signs, traffic_lights, two_way_stops, none } control = stop_signs;
+    std::vector<CrosswalkSpec> crosswalks;
 };
 
 struct BuildResult {

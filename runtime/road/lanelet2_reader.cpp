@@ -232,10 +232,201 @@ struct Bound {
         return b;
     }
 };
+// The number of points that sample a bound of this length every 0.5 m or less.
+int samples_for(double bound_length) {
+    return std::max(2, static_cast<int>(std::ceil(bound_length / 0.5)) + 1);
+}
+
+// n points at equal arc-length fractions of a polyline (of at least two points).
+std::vector<Vec2> resample(const std::vector<Vec2>& p, int n) {
+    std::vector<double> acc = {0};
+    for (size_t i = 1; i < p.size(); ++i)
+        acc.push_back(acc.back() + distance(p[i - 1], p[i]));
+    std::vector<Vec2> out;
+    size_t j = 0;
+    for (int i = 0; i < n; ++i) {
+        const double t = acc.back() * i / (n - 1);
+        while (j + 2 < p.size() && acc[j + 1] < t) ++j;
+        const double seg = acc[j + 1] - acc[j];
+        const double f = seg > 0 ? std::clamp((t - acc[j]) / seg, 0.0, 1.0) : 0.0;
+        out.push_back(p[j] + f * (p[j + 1] - p[j]));
+    }
+    return out;
+}
+
+// ---- Pedestrian areas: crosswalk and walkway lanelets, walkway multipolygons.
+
+// The strip between two bounds: the mid-line of the bounds resampled at the same arc-length
+// fractions, oriented along `a` (b is turned when its ends lie the other way round), and the
+// mean distance between them as its width.
+struct Strip {
+    std::vector<Vec2> centre, left, right;
+    double width = 0;
+};
+
+std::optional<Strip> strip_between(const std::vector<Vec2>& a, std::vector<Vec2> b) {
+    if (a.size() < 2 || b.size() < 2) return std::nullopt;
+    const double la = polyline_length(a), lb = polyline_length(b);
+    if (la < 1e-3 || lb < 1e-3 || std::max(la, lb) > kMaxLaneletLength) return std::nullopt;
+    if (distance(a.front(), b.front()) + distance(a.back(), b.back()) >
+        distance(a.front(), b.back()) + distance(a.back(), b.front()))
+        std::reverse(b.begin(), b.end());
+    const int n = samples_for(std::max(la, lb));
+    const auto as = resample(a, n), bs = resample(b, n);
+    Strip st;
+    double a_side = 0;  // > 0: a lies to the left of the centre line
+    for (size_t i = 0; i < as.size(); ++i) {
+        st.centre.push_back(0.5 * (as[i] + bs[i]));
+        st.width += distance(as[i], bs[i]) / n;
+    }
+    for (size_t i = 0; i + 1 < as.size(); ++i) a_side += cross(st.centre[i + 1] - st.centre[i], as[i] - st.centre[i]);
+    if (polyline_length(st.centre) < 1e-3) return std::nullopt;
+    st.left = a_side >= 0 ? a : b;
+    st.right = a_side >= 0 ? b : a;
+    return st;
+}
+
+// The outline of a multipolygon of outer ways only, chained end to end into one closed ring
+// (the closing node not repeated); nullopt when the area is not that simple.
+std::optional<std::vector<Id>> simple_ring(const Relation& rel, const std::map<Id, Way>& ways) {
+    constexpr size_t kMaxPieces = 1000;  // the chaining is quadratic in the pieces
+    std::vector<std::vector<Id>> pieces;
+    for (const auto& m : rel.members) {
+        auto w = ways.find(m.ref);
+        if (m.type != "way" || m.role != "outer" || w == ways.end() || w->second.nodes.size() < 2) return std::nullopt;
+        pieces.push_back(w->second.nodes);
+    }
+    if (pieces.empty() || pieces.size() > kMaxPieces) return std::nullopt;
+    std::vector<Id> ring = pieces[0];
+    std::vector<bool> used(pieces.size(), false);
+    used[0] = true;
+    for (size_t added = 1; added < pieces.size(); ++added) {
+        bool found = false;
+        for (size_t k = 0; k < pieces.size() && !found; ++k) {
+            if (used[k] || (pieces[k].front() != ring.back() && pieces[k].back() != ring.back())) continue;
+            if (pieces[k].front() != ring.back()) std::reverse(pieces[k].begin(), pieces[k].end());
+            ring.insert(ring.end(), pieces[k].begin() + 1, pieces[k].end());
+            used[k] = found = true;
+        }
+        if (!found) return std::nullopt;
+    }
+    if (ring.front() != ring.back()) return std::nullopt;
+    ring.pop_back();
+    if (ring.size() < 3) return std::nullopt;
+    return ring;
+}
+
+// An area as a strip: its outline split at the two points farthest apart along its principal
+// axis, the two halves taken as bounds (an approximation for areas far from strip-shaped).
+std::optional<Strip> area_strip(const std::vector<Vec2>& ring) {
+    Vec2 mean{};
+    for (const auto& p : ring) mean = mean + (1.0 / static_cast<double>(ring.size())) * p;
+    double sxx = 0, syy = 0, sxy = 0;
+    for (const auto& p : ring) {
+        const Vec2 d = p - mean;
+        sxx += d.x * d.x;
+        syy += d.y * d.y;
+        sxy += d.x * d.y;
+    }
+    const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
+    const Vec2 axis{std::cos(angle), std::sin(angle)};
+    size_t lo = 0, hi = 0;
+    for (size_t i = 0; i < ring.size(); ++i) {
+        if (dot(ring[i], axis) < dot(ring[lo], axis)) lo = i;
+        if (dot(ring[i], axis) > dot(ring[hi], axis)) hi = i;
+    }
+    if (lo == hi) return std::nullopt;
+    std::vector<Vec2> a, b;  // lo → hi one way round the ring, and the other way
+    for (size_t i = lo;; i = (i + 1) % ring.size()) {
+        a.push_back(ring[i]);
+        if (i == hi) break;
+    }
+    for (size_t i = lo;; i = (i + ring.size() - 1) % ring.size()) {
+        b.push_back(ring[i]);
+        if (i == hi) break;
+    }
+    return strip_between(a, b);
+}
+
 const std::set<std::string> kRoles = {"refers", "ref_line", "light_bulbs", "right_of_way",
                                       "yield",  "cancels",  "cancel_line"};
 const std::set<std::string> kRegSubtypes = {"traffic_light", "right_of_way", "all_way_stop",
                                             "speed_limit", "traffic_sign"};
+
+std::vector<Vec2> way_points(const Way& w, const std::map<Id, Vec2>& nodes) {
+    std::vector<Vec2> pts;
+    for (Id n : w.nodes) pts.push_back(nodes.at(n));
+    return pts;
+}
+
+// A crosswalk or walkway lanelet as a strip between its bounds, oriented along its left bound
+// as written (nullopt, with a warning, when the bounds give none; missing bounds are already
+// errors).
+std::optional<Strip> lanelet_strip(Id id, const Relation& rel, const std::map<Id, Way>& ways,
+                                   const std::map<Id, Vec2>& nodes, std::vector<std::string>& warnings) {
+    const Way* bound[2] = {nullptr, nullptr};
+    for (const auto& m : rel.members) {
+        auto w = ways.find(m.ref);
+        if (m.type == "way" && w != ways.end() && (m.role == "left" || m.role == "right"))
+            bound[m.role == "left" ? 0 : 1] = &w->second;
+    }
+    if (!bound[0] || !bound[1]) return std::nullopt;
+    auto st = strip_between(way_points(*bound[0], nodes), way_points(*bound[1], nodes));
+    if (!st) warnings.push_back("lanelet " + std::to_string(id) + ": " + rel.tags.at("subtype") +
+                                " with degenerate bounds; ignored");
+    return st;
+}
+
+// The pedestrians' signal of a crosswalk lanelet: the first traffic light it refers to.
+int32_t crosswalk_light(const Relation& rel, const std::map<Id, int32_t>& light_index) {
+    for (const auto& m : rel.members) {
+        auto l = light_index.find(m.ref);
+        if (m.role == "regulatory_element" && l != light_index.end()) return l->second;
+    }
+    return -1;
+}
+
+// What pedestrians use: crosswalk lanelets (Crosswalk) and walkway lanelets and simple walkway
+// multipolygons (Walkway), each named by its relation id.
+void add_pedestrian_areas(const std::map<Id, Vec2>& nodes, const std::map<Id, Way>& ways,
+                          const std::map<Id, Relation>& rels, const std::vector<Id>& rel_order,
+                          const std::map<Id, int32_t>& light_index, RoadNetwork& net,
+                          std::vector<std::string>& warnings) {
+    for (Id id : rel_order) {
+        const Relation& rel = rels.at(id);
+        auto tag = [&](const char* k) {
+            auto t = rel.tags.find(k);
+            return t == rel.tags.end() ? std::string() : t->second;
+        };
+        const std::string type = tag("type"), subtype = tag("subtype");
+        if (type == "lanelet" && subtype == "crosswalk") {
+            if (auto st = lanelet_strip(id, rel, ways, nodes, warnings)) {
+                Crosswalk cw;
+                cw.name = std::to_string(id);
+                cw.centre = std::move(st->centre);
+                cw.left_bound = std::move(st->left);
+                cw.right_bound = std::move(st->right);
+                cw.width = st->width;
+                cw.light = crosswalk_light(rel, light_index);
+                net.crosswalks.push_back(std::move(cw));
+            }
+        } else if (subtype == "walkway" && (type == "lanelet" || type == "multipolygon")) {
+            std::optional<Strip> st;
+            if (type == "lanelet") {
+                st = lanelet_strip(id, rel, ways, nodes, warnings);
+            } else if (auto ring = simple_ring(rel, ways)) {
+                std::vector<Vec2> pts;
+                for (Id n : *ring) pts.push_back(nodes.at(n));
+                st = area_strip(pts);
+                if (!st) warnings.push_back("multipolygon " + std::to_string(id) + ": degenerate walkway area; ignored");
+            } else {
+                warnings.push_back("multipolygon " + std::to_string(id) +
+                                   ": walkway area is not one closed outline of outer ways; ignored");
+            }
+            if (st) net.walkways.push_back({std::to_string(id), std::move(st->centre), std::move(st->left), std::move(st->right), st->width});
+        }
+    }
+}
 
 }  // namespace
 
@@ -478,23 +669,8 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
                                " km long; sdv reads lanelets up to 50 km (split it)");
             return r;  // the lanelets after it are not built: the map is refused
         }
-        const int n = std::max(2, static_cast<int>(std::ceil(bound_length / 0.5)) + 1);
-        auto resample = [n](const std::vector<Vec2>& p) {
-            std::vector<double> acc = {0};
-            for (size_t i = 1; i < p.size(); ++i)
-                acc.push_back(acc.back() + distance(p[i - 1], p[i]));
-            std::vector<Vec2> out;
-            size_t j = 0;
-            for (int i = 0; i < n; ++i) {
-                const double t = acc.back() * i / (n - 1);
-                while (j + 2 < p.size() && acc[j + 1] < t) ++j;
-                const double seg = acc[j + 1] - acc[j];
-                const double f = seg > 0 ? std::clamp((t - acc[j]) / seg, 0.0, 1.0) : 0.0;
-                out.push_back(p[j] + f * (p[j + 1] - p[j]));
-            }
-            return out;
-        };
-        const auto ls = resample(lp), rs = resample(rp);
+        const int n = samples_for(bound_length);
+        const auto ls = resample(lp, n), rs = resample(rp, n);
         Lane lane;
         lane.name = std::to_string(a.id) + (a.inverted ? kInvertedSuffix : "");
         for (int i = 0; i < n; ++i)
@@ -691,6 +867,8 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
         for (LaneId l : row.priority) net.lane_mut(l).right_of_way = index;
         net.rights_of_way.push_back(std::move(row));
     }
+    add_pedestrian_areas(nodes, ways, rels, rel_order, light_index, net, r.warnings);
+    find_crossings(net);
     if (r.drivable == 0 && r.errors.empty()) r.errors.push_back("the map has no drivable lanelet");
     if (r.errors.empty()) r.network = std::move(net);
     return r;

@@ -5,7 +5,8 @@
 // "<id>:inv"; successors (a lanelet's bounds end where another's begin, by node identity);
 // same-direction neighbours where the shared bound lets a vehicle change lanes, opposite ones
 // where a bound is shared inverted; traffic lights, right-of-way and all-way-stop regulatory
-// elements, stop lines and speed limits. Geographic coordinates are projected with
+// elements, stop lines and speed limits; crosswalk lanelets, walkway lanelets and simple walkway
+// areas become the network's crosswalks and walkways. Geographic coordinates are projected with
 // GeographicLib's LocalCartesian about the origin (default: the first node of the file).
 // Malformed maps give errors naming the element.
 #pragma once

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <utility>
 
 namespace sdv::road {
 
@@ -167,6 +169,108 @@ RoadNetwork::Location RoadNetwork::locate(Vec2 p, std::optional<double> heading)
         }
     }
     return best;
+}
+
+}  // namespace sdv::road
+
+namespace sdv::road {
+namespace {
+
+// Half the strip along a lane is never counted longer than this: a crosswalk almost parallel
+// to a lane would otherwise cover the whole lane.
+constexpr double kMaxHalfExtent = 10.0;
+
+struct Bounds {
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    void add(Vec2 p) {
+        x0 = std::min(x0, p.x);
+        y0 = std::min(y0, p.y);
+        x1 = std::max(x1, p.x);
+        y1 = std::max(y1, p.y);
+    }
+    bool overlaps(const Bounds& o) const { return x0 <= o.x1 && o.x0 <= x1 && y0 <= o.y1 && o.y0 <= y1; }
+};
+
+Bounds bounds_of(const std::vector<Vec2>& pts, size_t first, size_t last) {
+    Bounds b;
+    for (size_t i = first; i <= last && i < pts.size(); ++i) b.add(pts[i]);
+    return b;
+}
+
+// Where segment p0→p1 meets q0→q1: the parameter along each. The ends are included with a
+// little slack, so that a crossing through a vertex is found (in both segments: the caller
+// merges the two) however the rounding falls.
+std::optional<std::pair<double, double>> meet(Vec2 p0, Vec2 p1, Vec2 q0, Vec2 q1) {
+    constexpr double kSlack = 1e-9;
+    const Vec2 r = p1 - p0, s = q1 - q0;
+    const double den = cross(r, s);
+    if (den == 0) return std::nullopt;  // parallel: touching along a line is no crossing
+    const double t = cross(q0 - p0, s) / den, u = cross(q0 - p0, r) / den;
+    if (t < -kSlack || t > 1 + kSlack || u < -kSlack || u > 1 + kSlack) return std::nullopt;
+    return std::pair{std::clamp(t, 0.0, 1.0), u};
+}
+
+struct Hit {
+    double s_poly;  // along the lane's polyline
+    Vec2 p;
+    double half_extent;
+};
+
+// Where the crosswalk's centre line meets the lane's, chunk by chunk of the lane's centre line
+// so that only the runs of points near the crosswalk are tested segment by segment; in order
+// along the lane, one hit per place.
+std::vector<Hit> hits(const Crosswalk& cw, const Bounds& cw_box, const Lane& lane) {
+    constexpr size_t kRun = 16;
+    constexpr double kSamePlace = 1e-6;  // m: one crossing found in two segments
+    const auto& c = lane.centre;
+    const auto& w = cw.centre;
+    std::vector<Hit> out;
+    double s = 0;  // polyline length up to point i
+    for (size_t first = 0; first + 1 < c.size(); first += kRun) {
+        const size_t last = std::min(first + kRun, c.size() - 1);
+        const bool near = bounds_of(c, first, last).overlaps(cw_box);
+        for (size_t i = first; i < last; ++i) {
+            const Vec2 dl = c[i + 1] - c[i];
+            for (size_t k = 0; near && k + 1 < w.size(); ++k) {
+                const auto hit = meet(c[i], c[i + 1], w[k], w[k + 1]);
+                if (!hit) continue;
+                const Vec2 dw = w[k + 1] - w[k];
+                const double sine = std::fabs(cross(dl, dw)) / (norm(dl) * norm(dw));
+                const double half = sine > 0 ? std::min(kMaxHalfExtent, 0.5 * cw.width / sine) : kMaxHalfExtent;
+                out.push_back({s + hit->first * norm(dl), c[i] + hit->first * dl, half});
+            }
+            s += norm(dl);
+        }
+    }
+    std::sort(out.begin(), out.end(), [](const Hit& a, const Hit& b) { return a.s_poly < b.s_poly; });
+    out.erase(std::unique(out.begin(), out.end(), [&](const Hit& a, const Hit& b) { return b.s_poly - a.s_poly < kSamePlace; }),
+              out.end());
+    return out;
+}
+
+}  // namespace
+
+void find_crossings(RoadNetwork& net) {
+    std::vector<Bounds> lane_boxes;
+    lane_boxes.reserve(net.lanes().size());
+    for (const auto& l : net.lanes()) lane_boxes.push_back(bounds_of(l.centre, 0, l.centre.size()));
+    for (size_t i = 0; i < net.crosswalks.size(); ++i) {
+        Crosswalk& cw = net.crosswalks[i];
+        cw.id = static_cast<int32_t>(i);
+        cw.length = polyline_length(cw.centre);
+        cw.crossings.clear();
+        const Bounds box = bounds_of(cw.centre, 0, cw.centre.size());
+        for (const auto& l : net.lanes()) {
+            if (l.centre.size() < 2 || !lane_boxes[static_cast<size_t>(l.id)].overlaps(box)) continue;
+            for (const Hit& h : hits(cw, box, l)) {
+                // The s of the lane's reference line (what stop lines and agents use), sought
+                // near the polyline's arc length.
+                const auto& ref = net.reference(l.id);
+                const double s = std::clamp(ref.project(h.p, h.s_poly).s, 0.0, ref.length());
+                cw.crossings.push_back({l.id, s, h.half_extent});
+            }
+        }
+    }
 }
 
 }  // namespace sdv::road

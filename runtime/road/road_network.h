@@ -50,6 +50,37 @@ struct RightOfWay {
     std::vector<LaneId> yield, priority;
 };
 
+// A pedestrian crossing: a strip across vehicle lanes. Pedestrians enter it at either end and
+// walk along `centre` (or against it); vehicles whose lanes it crosses yield to them there.
+struct Crosswalk {
+    int32_t id = 0;
+    std::string name;          // built-in: "<road>.<name>"; Lanelet2: the lanelet id
+    std::vector<Vec2> centre;  // from one end (an entrance) to the other, over the lanes
+    std::vector<Vec2> left_bound, right_bound;
+    double width = 3.0;
+    double length = 0.0;       // of the centre line
+    // The pedestrians' signal (index into RoadNetwork::lights; -1: none). With `light_inverse`
+    // the light is the vehicles' one and pedestrians may walk while it is red (a signalised
+    // mid-block crossing whose pedestrian signal is derived from the vehicles').
+    int32_t light = -1;
+    bool light_inverse = false;
+    // Where it crosses vehicle lanes: the lane, the s of the crossing on the lane's centre line,
+    // and the half-extent along the lane (its half width there).
+    struct Crossing {
+        LaneId lane = kNoLane;
+        double s = 0.0;
+        double half_extent = 1.5;
+    };
+    std::vector<Crossing> crossings;
+};
+
+// A footpath (Lanelet2 walkway lanelet or area): where pedestrians walk beside the road.
+struct Walkway {
+    std::string name;
+    std::vector<Vec2> centre, left_bound, right_bound;
+    double width = 2.0;
+};
+
 class RoadNetwork {
 public:
     LaneId add_lane(Lane lane);  // assigns the id; computes the length
@@ -63,6 +94,8 @@ public:
 
     std::vector<TrafficLight> lights;
     std::vector<RightOfWay> rights_of_way;
+    std::vector<Crosswalk> crosswalks;
+    std::vector<Walkway> walkways;
 
     // The lane whose centre line is nearest to p (among lanes whose direction is within 90° of
     // `heading`, when given), with the position along it.
@@ -99,6 +132,10 @@ private:
     mutable std::vector<std::optional<ReferenceLine>> refs_;
     std::vector<LaneBoxes> boxes_;  // empty until prepare()
 };
+
+// Fills every crosswalk's `length` and `crossings` from its centre line and the lanes (call
+// once lanes and crosswalks are complete, before prepare()).
+void find_crossings(RoadNetwork& net);
 
 // Polyline helpers.
 double polyline_length(const std::vector<Vec2>& pts);

@@ -1,8 +1,11 @@
-// The agent models of today: SDVs, trajectory vehicles and static objects.
+// The agent models of vehicles: SDVs, trajectory and path vehicles, static objects, external
+// vehicles; and of pedestrians that follow waypoints (simulated pedestrians: pedestrian.cpp).
 #include "runtime/sim/agents.h"
 
 #include <algorithm>
 #include <cmath>
+
+#include "runtime/sim/pedestrian.h"
 
 namespace sdv::sim {
 namespace {
@@ -66,22 +69,24 @@ void localise(const World& w, Agent& a, bool relocate) {
     }
 }
 
-// Linear interpolation between time-stamped waypoints (the reference's TV); at rest after the
-// last one.
+// Linear interpolation between time-stamped waypoints (the reference's TV and TP; a path's
+// points are timed when the agent is placed: PV, PP); at rest after the last one.
 class TrajectoryModel final : public AgentModel {
 public:
-    explicit TrajectoryModel(bool ego) : ego_(ego) {}
-    const char* kind() const override { return ego_ ? "ego" : "trajectory"; }
+    explicit TrajectoryModel(const char* kind) : kind_(kind) {}
+    const char* kind() const override { return kind_; }
     void advance(const World& w, Agent& a, double t, int tick) const override {
         if (tick > 0) {
             const auto& wp = a.v->trajectory;
             size_t k = 0;
             while (k + 2 < wp.size() && wp[k + 1].time <= t) ++k;
             const auto pos = [&](size_t i) {
+                const ir::Position& at = wp[i].position;
+                if (at.xy) return road::CartesianState{at.x, 0, 0, at.y, 0, 0};  // exactly there, on a lane or not
                 LaneId l;
                 double s;
-                w.locate(wp[i].position, l, s);
-                return w.net.reference(l).to_cartesian({s, 0, 0, wp[i].position.offset, 0, 0});
+                w.locate(at, l, s);
+                return w.net.reference(l).to_cartesian({s, 0, 0, at.offset, 0, 0});
             };
             const auto p0 = pos(k), p1 = pos(k + 1);
             const double span = std::max(1e-9, wp[k + 1].time - wp[k].time);
@@ -99,7 +104,44 @@ public:
     }
 
 private:
-    bool ego_;
+    const char* kind_;
+};
+
+// Along its path at the speed its points give, interpolated linearly in the distance walked
+// (the reference's PV and PP, Actor.follow_path): each tick the speed at the distance walked so
+// far, then the distance advanced at that speed. At rest at the last point.
+class PathModel final : public AgentModel {
+public:
+    explicit PathModel(const char* kind) : kind_(kind) {}
+    const char* kind() const override { return kind_; }
+    void advance(const World& w, Agent& a, double t, int tick) const override {
+        (void)t;
+        const auto& pts = a.path_points;
+        const auto& speeds = a.path_speeds;
+        const auto& cum = a.path_cum;
+        if (tick > 0 && pts.size() >= 2) {
+            size_t k = 0;
+            while (k + 2 < cum.size() && a.path_s > cum[k + 1]) ++k;
+            const double span = std::max(1e-9, cum[k + 1] - cum[k]);
+            const double f = std::clamp((a.path_s - cum[k]) / span, 0.0, 1.0);
+            const double v = a.path_s >= cum.back() ? 0.0 : speeds[k] + f * (speeds[k + 1] - speeds[k]);
+            a.path_s = std::min(cum.back(), a.path_s + v * w.dt);
+            while (k + 2 < cum.size() && a.path_s > cum[k + 1]) ++k;
+            const double seg = std::max(1e-9, cum[k + 1] - cum[k]);
+            const double g = std::clamp((a.path_s - cum[k]) / seg, 0.0, 1.0);
+            const road::Vec2 dir = (1.0 / seg) * (pts[k + 1] - pts[k]);
+            const road::Vec2 p = pts[k] + g * (pts[k + 1] - pts[k]);
+            const double moving = a.path_s >= cum.back() ? 0.0 : v;
+            const double old_speed = a.speed;
+            place(a, {p.x, moving * dir.x, 0, p.y, moving * dir.y, 0});
+            if (moving <= 0.05) a.yaw = std::atan2(dir.y, dir.x);
+            a.accel = (a.speed - old_speed) / w.dt;
+        }
+        localise(w, a, true);
+    }
+
+private:
+    const char* kind_;
 };
 
 class StaticModel final : public AgentModel {
@@ -140,9 +182,15 @@ public:
 }  // namespace
 
 std::shared_ptr<const AgentModel> make_model(const ir::Vehicle& v) {
+    if (v.pedestrian) {
+        if (v.kind == ir::VehicleKind::sdv) return make_walker_model();
+        if (v.kind == ir::VehicleKind::path) return std::make_shared<PathModel>("pedestrian");
+        return std::make_shared<TrajectoryModel>("pedestrian");
+    }
     switch (v.kind) {
         case ir::VehicleKind::sdv: return std::make_shared<SdvModel>(v.is_ego);
-        case ir::VehicleKind::trajectory: return std::make_shared<TrajectoryModel>(v.is_ego);
+        case ir::VehicleKind::trajectory: return std::make_shared<TrajectoryModel>(v.is_ego ? "ego" : "trajectory");
+        case ir::VehicleKind::path: return std::make_shared<PathModel>(v.is_ego ? "ego" : "path");
         case ir::VehicleKind::static_object: return std::make_shared<StaticModel>();
         case ir::VehicleKind::external: return std::make_shared<ExternalModel>();
     }

@@ -7,6 +7,7 @@
 
 #include "runtime/catalog/catalog.h"
 #include "runtime/sim/leaves.h"
+#include "runtime/sim/pedestrian.h"
 
 namespace sdv::sim {
 namespace {
@@ -254,31 +255,48 @@ bool stopped_at_line(Leaves& l, const ir::Node& n, int32_t) {
     return l.a.stopped_line == l.a.lane && l.a.stopped_gap <= l.num(n, "distance");
 }
 
-// Distance from (lane, s) along the lanes to the next junction lane (0 inside one) or stop line
-// ahead, the shortest over successors, up to `limit` (INFINITY beyond).
-double distance_to(const road::RoadNetwork& net, LaneId lane, double s, bool junction, double limit, int depth = 0) {
+enum class Arrive { junction, stop_line, crossing };
+
+// The s of the first crosswalk crossing on `lane` at or after s (nullopt: none).
+std::optional<double> crossing_after(const road::RoadNetwork& net, LaneId lane, double s) {
+    std::optional<double> best;
+    for (const auto& c : net.crosswalks) {
+        for (const auto& x : c.crossings) {
+            const double near = x.s - x.half_extent;
+            if (x.lane == lane && near >= s - 0.5 && (!best || near < *best)) best = near;
+        }
+    }
+    return best;
+}
+
+// Distance from (lane, s) along the lanes to the next junction lane (0 inside one), stop line or
+// crosswalk ahead, the shortest over successors, up to `limit` (INFINITY beyond).
+double distance_to(const road::RoadNetwork& net, LaneId lane, double s, Arrive at, double limit, int depth = 0) {
     if (lane == kNoLane || depth > 12) return INFINITY;
     const auto& ln = net.lane(lane);
-    if (junction && ln.in_junction) return 0;
-    if (!junction && ln.stop_line_s && *ln.stop_line_s >= s - 0.5) return std::max(0.0, *ln.stop_line_s - s);
+    if (at == Arrive::junction && ln.in_junction) return 0;
+    if (at == Arrive::stop_line && ln.stop_line_s && *ln.stop_line_s >= s - 0.5) return std::max(0.0, *ln.stop_line_s - s);
+    if (at == Arrive::crossing) {
+        if (auto x = crossing_after(net, lane, s)) return std::max(0.0, *x - s);
+    }
     const double rest = std::max(0.0, ln.length - s);
     if (rest >= limit) return INFINITY;
     double best = INFINITY;
-    for (const LaneId next : ln.successors) best = std::min(best, rest + distance_to(net, next, 0, junction, limit - rest, depth + 1));
+    for (const LaneId next : ln.successors) best = std::min(best, rest + distance_to(net, next, 0, at, limit - rest, depth + 1));
     return best;
 }
 
 bool time_to_arrival(Leaves& l, const ir::Node& n, int32_t) {
     constexpr double kLimit = 300;
-    const auto* at = l.param(n, "at");
-    const bool junction = at == nullptr || at->choice == 0;
+    const auto* at_param = l.param(n, "at");
+    const Arrive at = at_param == nullptr ? Arrive::junction : static_cast<Arrive>(at_param->choice);
     double dist = INFINITY, speed = 0;
     if (names_other(l.param(n, "vehicle"))) {
         const Seen* s = l.vehicle(n, "vehicle", false);
         if (s == nullptr) return false;
         const Snap& o = snap(l, s->index);
         // Its front bumper, predicted like everything it perceives (constant speed to t_start).
-        dist = distance_to(l.w.net, o.lane, o.lane_s + 0.5 * o.length + o.speed * (l.t_start - l.t0), junction, kLimit);
+        dist = distance_to(l.w.net, o.lane, o.lane_s + 0.5 * o.length + o.speed * (l.t_start - l.t0), at, kLimit);
         speed = o.speed;
     } else {
         // Along the driver's own path, from its front bumper.
@@ -289,13 +307,19 @@ bool time_to_arrival(Leaves& l, const ir::Node& n, int32_t) {
             const double start = d.path_start[i], end = start + ln.length;
             if (end < front) continue;
             if (start > front + kLimit) break;
-            if (junction && ln.in_junction) {
+            if (at == Arrive::junction && ln.in_junction) {
                 dist = std::max(0.0, start - front);
                 break;
             }
-            if (!junction && ln.stop_line_s && start + *ln.stop_line_s >= front - 0.5) {
+            if (at == Arrive::stop_line && ln.stop_line_s && start + *ln.stop_line_s >= front - 0.5) {
                 dist = std::max(0.0, start + *ln.stop_line_s - front);
                 break;
+            }
+            if (at == Arrive::crossing) {
+                if (auto x = crossing_after(l.w.net, d.path[i], front - start)) {
+                    dist = std::max(0.0, start + *x - front);
+                    break;
+                }
             }
         }
         speed = l.view.self.s_d;
@@ -305,7 +329,13 @@ bool time_to_arrival(Leaves& l, const ir::Node& n, int32_t) {
     return in(t, l.num(n, "min"), l.num(n, "max"));
 }
 
-constexpr size_t kConditionKinds = static_cast<size_t>(ConditionKind::time_to_arrival) + 1;
+bool pedestrian_crossing(Leaves& l, const ir::Node& n, int32_t) { return pedestrian_ahead(l, l.num(n, "distance")).has_value(); }
+
+// Conditions of pedestrians' trees: their leaves are answered in pedestrian_leaves.cpp (the
+// checker keeps them out of vehicles' trees, E0411).
+bool for_pedestrians(Leaves&, const ir::Node&, int32_t) { return false; }
+
+constexpr size_t kConditionKinds = static_cast<size_t>(ConditionKind::accept_gap) + 1;
 
 // Indexed by catalog::ConditionKind; each entry names its kind, so that tests/unit/sim can check
 // the table against the catalog entry by entry.
@@ -333,6 +363,16 @@ constexpr std::array<ConditionEntry, kConditionKinds> kTable = {{
     {ConditionKind::wait, wait},
     {ConditionKind::stopped_at_line, stopped_at_line},
     {ConditionKind::time_to_arrival, time_to_arrival},
+    {ConditionKind::pedestrian_crossing, pedestrian_crossing},
+    {ConditionKind::has_target_crosswalk, for_pedestrians},
+    {ConditionKind::approaching_crosswalk, for_pedestrians},
+    {ConditionKind::at_crosswalk_entrance, for_pedestrians},
+    {ConditionKind::on_crosswalk, for_pedestrians},
+    {ConditionKind::crosswalk_exit_reached, for_pedestrians},
+    {ConditionKind::crosswalk_has_light, for_pedestrians},
+    {ConditionKind::pedestrian_light, for_pedestrians},
+    {ConditionKind::can_cross_before_red, for_pedestrians},
+    {ConditionKind::accept_gap, for_pedestrians},
 }};
 
 constexpr bool in_kind_order() {

@@ -256,14 +256,16 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
     }
 }
 
+constexpr double kPedestrianGoalReach = 1.0;  // m
+
 void GroundTruth::measure_vehicles(World& w, double t, int tick) {
     auto& agents = w.agents;
     for (size_t i = 0; i < agents.size(); ++i) {
         Agent& a = agents[i];
         if (!a.active) continue;
         VehicleMetrics& vm = out_.vehicles[i];
-        // The centre off every lane: one event per episode.
-        const bool off = a.centre_lane == kNoLane;
+        // The centre off every lane: one event per episode (pedestrians walk beside the lanes).
+        const bool off = !a.v->pedestrian && a.centre_lane == kNoLane;
         if (off && !a.off_lanes) out_.events.push_back({t, "off_road", {static_cast<int>(i)}, 0, ""});
         a.off_lanes = off;
         std::optional<double> jerk;
@@ -279,6 +281,14 @@ void GroundTruth::measure_vehicles(World& w, double t, int tick) {
                 a.stopped_line = a.lane;
                 a.stopped_gap = std::max(0.0, g);
             }
+        }
+        if (a.walker && a.walker->has_goal && !a.goal_reached &&
+            std::hypot(a.x - a.walker->goal.x, a.y - a.walker->goal.y) <= kPedestrianGoalReach) {
+            // A pedestrian's goal is a point: reached within a stride of it.
+            a.goal_reached = true;
+            vm.reached_goal = true;
+            out_.events.push_back({t, "goal_reached", {static_cast<int>(i)}, 0, ""});
+            if (a.v->goal_ends_run) ended_ = true;
         }
         if (a.goal_lane != kNoLane && !a.goal_reached) {
             // Within 4 m along and 2 m across the goal the vehicle may keep closing in; the

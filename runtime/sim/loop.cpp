@@ -9,6 +9,7 @@
 #include "runtime/sim/pool.h"
 #include "runtime/sim/expectations.h"
 #include "runtime/sim/ground_truth.h"
+#include "runtime/sim/pedestrian.h"
 #include "runtime/sim/planning.h"
 #include "runtime/sim/progress.h"
 #include "runtime/sim/simulation.h"
@@ -29,7 +30,7 @@ void take_snapshot(World& w, double t) {
     for (size_t i = 0; i < w.agents.size(); ++i) {
         const Agent& a = w.agents[i];
         w.snapshot[i] = {a.x, a.y, a.yaw, a.vx, a.vy, a.speed, a.accel, a.v->length, a.v->width, a.lane,
-                         a.v->kind == ir::VehicleKind::static_object, a.stopped_since, a.driver ? a.driver->maneuver : -1, a.active, a.lane_s,
+                         a.v->kind == ir::VehicleKind::static_object, a.v->pedestrian, a.stopped_since, a.driver ? a.driver->maneuver : -1, a.active, a.lane_s,
                          a.driver ? a.driver->target_lane : kNoLane, a.driver ? a.driver->lane_move_since : 0,
                          lateral_to_go(a, t)};
     }
@@ -165,6 +166,10 @@ bool Simulation::step() {
             vm.fallback_used = true;
         }
         if (st.observer) st.observer->plan(w, *a);
+    }
+    // The pedestrians' trees due at this tick, over the same snapshot (a few µs each, in order).
+    for (Agent& a : w.agents) {
+        if (a.walker && a.active && !a.crashed && (tick + a.index) % st.period == 0) walk_cycle(w, a, t);
     }
     // Then the next tick.
     advance_to(tick + 1);

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "runtime/catalog/catalog.h"
+#include "runtime/sim/pedestrian.h"
 
 namespace sdv::sim {
 namespace {
@@ -87,6 +88,12 @@ void make_request(const Leaves& l, int32_t sel, PlanInputs& out) {
                 req.stop_s += d.path_start.empty() ? 0 : d.path_start.front();
             }
             if (which == planner::StopTarget::goal && a.goal_lane == kNoLane) cfg.stop_at = planner::StopTarget::now;
+            if (which == planner::StopTarget::pedestrian) {
+                // The stop of `pedestrian_crossing`; with nobody to yield to, a stop now.
+                const auto y = pedestrian_ahead(l, kPedestrianLookAhead);
+                if (y) req.stop_s = y->stop_s;
+                else cfg.stop_at = planner::StopTarget::now;
+            }
         }
     }
     const auto& self = l.view.self;

@@ -93,7 +93,25 @@ std::string road_key(const ir::Road& r) {
         std::snprintf(buf, sizeof buf, "|%d:%.17g:%.17g", seg.arc ? 1 : 0, seg.length, seg.radius);
         k += buf;
     }
+    for (const auto& c : r.crosswalks) {
+        std::snprintf(buf, sizeof buf, ":%.17g:%.17g:%d", c.at, c.width, c.signalised ? 1 : 0);
+        k += "|xw:" + c.name + ":" + c.arm + buf;
+    }
     return k;
+}
+
+std::vector<road::CrosswalkSpec> crosswalk_specs(const ir::Road& r) {
+    std::vector<road::CrosswalkSpec> out;
+    for (const auto& c : r.crosswalks) {
+        road::CrosswalkSpec x;
+        x.name = c.name;
+        x.arm = c.arm;
+        x.width_m = c.width;
+        x.signalised = c.signalised;
+        (r.kind == ir::RoadKind::junction ? x.gap_m : x.s_m) = c.at;
+        out.push_back(std::move(x));
+    }
+    return out;
 }
 
 }  // namespace
@@ -116,6 +134,7 @@ std::string World::make_road(road::RoadNetwork& out) const {
             for (const auto& s : r.segments) {
                 spec.segments.push_back({s.arc ? road::Segment::arc : road::Segment::straight, s.length, s.radius});
             }
+            spec.crosswalks = crosswalk_specs(r);
             auto b = road::build_road(spec);
             if (!b.errors.empty()) return at + ": " + b.errors.front();
             out = std::move(b.network);
@@ -132,6 +151,7 @@ std::string World::make_road(road::RoadNetwork& out) const {
                            : r.control == "two_way_stops" ? road::JunctionSpec::two_way_stops
                            : r.control == "none"          ? road::JunctionSpec::none
                                                           : road::JunctionSpec::stop_signs;
+            spec.crosswalks = crosswalk_specs(r);
             auto b = road::build_junction(spec);
             if (!b.errors.empty()) return at + ": " + b.errors.front();
             out = std::move(b.network);
@@ -174,7 +194,76 @@ std::string World::build_road() {
     return "";
 }
 
+std::string World::point(const ir::Position& pos, road::Vec2& out) const {
+    if (pos.xy) {
+        out = {pos.x, pos.y};
+        return "";
+    }
+    LaneId lane = kNoLane;
+    double s = 0;
+    if (auto e = locate(pos, lane, s); !e.empty()) return e;
+    const auto c = net.reference(lane).to_cartesian({s, 0, 0, pos.offset, 0, 0});
+    out = {c.x, c.y};
+    return "";
+}
+
+// Pedestrians and path agents: where they are is a point, on a lane or not; they need no route.
+std::string World::place_walking(Agent& a) {
+    const std::string vwhere = where(a.v->loc) + ": " + (a.v->pedestrian ? "pedestrian '" : "vehicle '") + a.v->name + "'";
+    road::Vec2 p;
+    double yaw = 0;
+    if (a.v->kind == ir::VehicleKind::path) {
+        // Its points, with the speed from each on (default: the previous point's, the first:
+        // its start speed), and the distance along the path at each.
+        double speed = a.v->speed;
+        for (const auto& wp : a.v->trajectory) {
+            road::Vec2 q;
+            if (auto e = point(wp.position, q); !e.empty()) return where(wp.position.loc) + ": " + vwhere + ": a point of its path is off the road: " + e;
+            if (wp.speed >= 0) speed = wp.speed;
+            a.path_cum.push_back(a.path_points.empty() ? 0.0 : a.path_cum.back() + distance(a.path_points.back(), q));
+            a.path_points.push_back(q);
+            a.path_speeds.push_back(speed);
+        }
+        if (a.path_points.size() < 2 || !(a.path_cum.back() > 0)) return vwhere + ": its path needs two distinct points";
+        p = a.path_points.front();
+        const road::Vec2 d = a.path_points[1] - a.path_points[0];
+        yaw = std::atan2(d.y, d.x);
+        const double v0 = a.path_speeds.front();
+        place(a, {p.x, v0 * std::cos(yaw), 0, p.y, v0 * std::sin(yaw), 0});
+        a.yaw = yaw;
+    } else {
+        const ir::Position& start = a.v->kind == ir::VehicleKind::trajectory && !a.v->trajectory.empty() ? a.v->trajectory.front().position : a.v->start;
+        if (auto e = point(start, p); !e.empty()) return vwhere + " starts off the road: " + e;
+        if (a.v->kind == ir::VehicleKind::sdv) {
+            a.walker = std::make_unique<Walker>();
+            Walker& k = *a.walker;
+            k.tree = std::make_unique<bt::BehaviorTree>(&program.instances.at(static_cast<size_t>(a.v->tree)));
+            k.base_speed = k.speed = a.v->speed;
+            if (a.v->goal) {
+                if (auto e = point(*a.v->goal, k.goal); !e.empty()) {
+                    return where(a.v->goal->loc) + ": the goal of pedestrian '" + a.v->name + "' is off the road: " + e;
+                }
+                k.has_goal = true;
+            }
+        }
+        // Facing its given heading, else its goal, else along the lane it stands by.
+        if (start.xy && start.has_heading) {
+            yaw = start.heading;
+        } else if (a.walker && a.walker->has_goal && distance(a.walker->goal, p) > 1e-6) {
+            yaw = std::atan2(a.walker->goal.y - p.y, a.walker->goal.x - p.x);
+        } else if (const auto found = net.locate(p); found.lane != kNoLane) {
+            yaw = net.reference(found.lane).heading(std::clamp(found.s, 0.0, net.reference(found.lane).length()));
+        }
+        const double v0 = a.v->kind == ir::VehicleKind::sdv ? a.v->speed : 0.0;
+        place(a, {p.x, v0 * std::cos(yaw), 0, p.y, v0 * std::sin(yaw), 0});
+        a.yaw = yaw;
+    }
+    a.model->advance(*this, a, 0, 0);  // its lane and lane coordinates
+    return "";
+}
+
 std::string World::place_agent(Agent& a) {
+    if (a.v->pedestrian || a.v->kind == ir::VehicleKind::path) return place_walking(a);
     const std::string vwhere = where(a.v->loc) + ": vehicle '" + a.v->name + "'";
     LaneId lane = kNoLane;
     double s = 0;

@@ -50,6 +50,7 @@ struct Snap {
     double length = 4.5, width = 1.8;
     LaneId lane = kNoLane;
     bool is_static = false;
+    bool pedestrian = false;
     double stopped_since = -1;
     int32_t maneuver = -1;
     bool active = true;  // false: gone from the run (left the road network)
@@ -110,6 +111,27 @@ struct Driver {
     std::optional<PlanTrace> trace;
 };
 
+// What a simulated pedestrian (sdp) owns: its tree and its intent, which its maneuvers set and
+// its motion model (social force, pedestrian.cpp) follows: where it walks and how fast.
+struct Walker {
+    std::unique_ptr<bt::BehaviorTree> tree;
+    road::Vec2 goal;        // where it walks to (without one: straight ahead, far away)
+    bool has_goal = false;
+    double base_speed = 1.4;  // the desired speed the last walking maneuver set
+    double speed = 1.4;       // desired speed now (0: it stands)
+    double arrive = 0.3;      // a point of the way within this is reached
+    // Its target crosswalk and where it is with it: approaching (off it, heading for the
+    // entrance, where it stops), crossing (on it, to the far end), back (returning to the
+    // entrance), done (left it at the far end).
+    int32_t crosswalk = -1;
+    int entrance = 0;  // the end it enters by: 0 the first point of the centre line, 1 the last
+    enum class Phase { none, approaching, crossing, back, done } phase = Phase::none;
+    int32_t maneuver = -1;
+    std::string maneuver_name = "none";
+    uint32_t cycles = 0;  // tree ticks so far
+    std::map<int32_t, std::pair<double, uint32_t>> waits;  // `wait` timers, as Driver's
+};
+
 class AgentModel;
 
 struct Agent {
@@ -139,6 +161,12 @@ struct Agent {
     double stopped_gap = 0;         // its front bumper's distance to that line then
     std::shared_ptr<const AgentModel> model;
     std::unique_ptr<Driver> driver;  // agents that plan (SDVs)
+    std::unique_ptr<Walker> walker;  // simulated pedestrians
+    // A path agent: its points, their speeds, the distance along the path at each, and how far
+    // it has gone.
+    std::vector<road::Vec2> path_points;
+    std::vector<double> path_speeds, path_cum;
+    double path_s = 0;
     // An agent driven from outside (co-simulation): its state at the next tick, set before the
     // step that moves it there (box centre, heading, signed speed and acceleration).
     struct ExternalState {
@@ -181,6 +209,9 @@ private:
     std::string build_road();
     std::string make_road(road::RoadNetwork& out) const;
     std::string place_agent(Agent& a);
+    std::string place_walking(Agent& a);
+    // A position of the IR as a point (lane positions with their offset); an error, or "".
+    std::string point(const ir::Position& pos, road::Vec2& out) const;
 };
 
 // Fixed-point text of a number as every output writes it ("-0.0000" printed as "0.0000").

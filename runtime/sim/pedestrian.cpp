@@ -1,0 +1,177 @@
+// The simulated pedestrian's motion model and its way (pedestrian.h).
+#include "runtime/sim/pedestrian.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "runtime/sim/agents.h"
+#include "runtime/sim/social_force.h"
+
+namespace sdv::sim {
+namespace {
+
+using road::Vec2;
+
+// Neighbours farther than this exert no noticeable force (the largest range of the model is
+// under 1 m; a car's box is measured from its centre, so add half a bus).
+constexpr double kNeighbourRadius = 12.0;  // m
+// Without a goal a pedestrian walks straight ahead: toward a point this far along its heading.
+constexpr double kAhead = 1000.0;  // m
+
+// Whether segments ab and cd intersect (touching counts).
+bool segments_cross(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+    const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a);
+    const double d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
+    return ((d1 <= 0 && d2 >= 0) || (d1 >= 0 && d2 <= 0)) && ((d3 <= 0 && d4 >= 0) || (d3 >= 0 && d4 <= 0));
+}
+
+// Whether the straight way from p to g crosses the centre line of `lane`.
+bool way_crosses(const road::Lane& lane, Vec2 p, Vec2 g) {
+    for (size_t i = 0; i + 1 < lane.centre.size(); ++i) {
+        if (segments_cross(p, g, lane.centre[i], lane.centre[i + 1])) return true;
+    }
+    return false;
+}
+
+class WalkerModel final : public AgentModel {
+public:
+    const char* kind() const override { return "pedestrian"; }
+    void advance(const World& w, Agent& a, double t, int tick) const override {
+        (void)t;
+        if (tick > 0) move(w, a);
+        const auto found = w.net.locate({a.x, a.y});
+        a.lane = found.lane;
+        if (a.lane != kNoLane) {
+            a.lane_s = found.s;
+            a.lane_d = found.d;
+            a.centre_lane = found.s >= 0 && found.s <= w.net.lane(a.lane).length ? centre_lane(w.net, a.lane, found.d) : kNoLane;
+        }
+    }
+
+private:
+    // One social-force step over the previous tick's snapshot (the neighbours as they were).
+    static void move(const World& w, Agent& a) {
+        static const social_force::Params params;
+        thread_local std::vector<int> near;
+        thread_local std::vector<social_force::Neighbour> peds;
+        thread_local std::vector<social_force::Obstacle> boxes;
+        peds.clear();
+        boxes.clear();
+        if (!w.snapshot.empty()) {
+            w.grid.query(a.x, a.y, kNeighbourRadius, near);
+            for (const int j : near) {
+                if (j == a.index) continue;
+                const Snap& o = w.snapshot[static_cast<size_t>(j)];
+                if (!o.active || std::hypot(o.x - a.x, o.y - a.y) > kNeighbourRadius) continue;
+                if (o.pedestrian) {
+                    peds.push_back({{o.x, o.y}, {o.vx, o.vy}, 0.5 * std::max(o.length, o.width)});
+                } else {
+                    boxes.push_back({{o.x, o.y}, o.yaw, o.length, o.width, {o.vx, o.vy}});
+                }
+            }
+        }
+        const Intent in = intent(w, a);
+        const social_force::State s{{a.x, a.y}, {a.vx, a.vy}};
+        const double radius = 0.5 * std::max(a.v->length, a.v->width);
+        const Vec2 f = social_force::force(params, s, radius, in.target, in.speed, peds, boxes);
+        const social_force::State n = social_force::step(params, s, f, in.speed, w.dt);
+        const double old_speed = a.speed;
+        a.x = n.p.x;
+        a.y = n.p.y;
+        a.vx = n.v.x;
+        a.vy = n.v.y;
+        a.ax = f.x;
+        a.ay = f.y;
+        a.speed = norm(n.v);
+        if (a.speed > 0.05) a.yaw = std::atan2(n.v.y, n.v.x);
+        a.accel = (a.speed - old_speed) / w.dt;
+        // The far end of the crosswalk reached: the crossing is done; back at the entrance
+        // (turn_back): approaching it again.
+        Walker& k = *a.walker;
+        if (k.crosswalk >= 0) {
+            const auto& c = w.net.crosswalks[static_cast<size_t>(k.crosswalk)];
+            const Vec2 p{a.x, a.y};
+            if (k.phase == Walker::Phase::crossing && distance(p, crosswalk_end(c, 1 - k.entrance)) <= k.arrive) {
+                k.phase = Walker::Phase::done;
+            } else if (k.phase == Walker::Phase::back && distance(p, crosswalk_end(c, k.entrance)) <= k.arrive) {
+                k.phase = Walker::Phase::approaching;
+            }
+        }
+    }
+};
+
+// The pedestrian signal state of a light state, through `inverse`.
+std::string signal_of(const std::string& light, bool inverse) {
+    if (!inverse) return light;
+    return light == "red" ? "green" : "red";
+}
+
+}  // namespace
+
+std::shared_ptr<const AgentModel> make_walker_model() { return std::make_shared<WalkerModel>(); }
+
+Vec2 crosswalk_end(const road::Crosswalk& c, int end) { return end == 0 ? c.centre.front() : c.centre.back(); }
+
+Intent intent(const World& w, const Agent& a) {
+    const Walker& k = *a.walker;
+    if (k.crosswalk >= 0 && k.phase != Walker::Phase::done && k.phase != Walker::Phase::none) {
+        const auto& c = w.net.crosswalks[static_cast<size_t>(k.crosswalk)];
+        const Vec2 to = crosswalk_end(c, k.phase == Walker::Phase::crossing ? 1 - k.entrance : k.entrance);
+        return {to, k.speed};
+    }
+    if (k.has_goal) return {k.goal, k.speed};
+    return {{a.x + kAhead * std::cos(a.yaw), a.y + kAhead * std::sin(a.yaw)}, k.speed};
+}
+
+std::vector<WayCrosswalk> crosswalks_on_way(const World& w, Vec2 p, Vec2 goal, double max_detour) {
+    std::vector<WayCrosswalk> out;
+    const double straight = distance(p, goal);
+    for (size_t i = 0; i < w.net.crosswalks.size(); ++i) {
+        const auto& c = w.net.crosswalks[i];
+        if (c.centre.size() < 2) continue;
+        const bool needed = std::any_of(c.crossings.begin(), c.crossings.end(), [&](const road::Crosswalk::Crossing& x) {
+            return way_crosses(w.net.lane(x.lane), p, goal);
+        });
+        if (!needed) continue;
+        const int entrance = distance(p, crosswalk_end(c, 0)) <= distance(p, crosswalk_end(c, 1)) ? 0 : 1;
+        const double to = distance(p, crosswalk_end(c, entrance));
+        const double detour = to + c.length + distance(crosswalk_end(c, 1 - entrance), goal) - straight;
+        if (detour > max_detour) continue;
+        out.push_back({static_cast<int32_t>(i), entrance, detour, to});
+    }
+    std::stable_sort(out.begin(), out.end(), [](const WayCrosswalk& x, const WayCrosswalk& y) { return x.distance < y.distance; });
+    return out;
+}
+
+std::string pedestrian_signal(const World& w, int32_t crosswalk, double t) {
+    if (crosswalk < 0) return "";
+    const auto& c = w.net.crosswalks[static_cast<size_t>(crosswalk)];
+    if (c.light < 0) return "";
+    return signal_of(w.light_state(c.light, t), c.light_inverse);
+}
+
+double time_until_red(const World& w, int32_t crosswalk, double t) {
+    if (crosswalk < 0) return INFINITY;
+    const auto& c = w.net.crosswalks[static_cast<size_t>(crosswalk)];
+    if (c.light < 0) return INFINITY;
+    if (signal_of(w.light_state(c.light, t), c.light_inverse) == "red") return 0;
+    auto it = w.programs.find(w.net.lights[static_cast<size_t>(c.light)].name);
+    if (it == w.programs.end() || it->second->phases.empty()) return INFINITY;  // a fixed state
+    // Walk the program's phase boundaries from t for one cycle.
+    const auto& ph = it->second->phases;
+    double total = 0;
+    for (const auto& x : ph) total += x.duration;
+    if (!(total > 0)) return INFINITY;
+    double u = std::fmod(t + it->second->offset, total);
+    size_t k = 0;
+    while (k + 1 < ph.size() && u >= ph[k].duration) u -= ph[k++].duration;
+    double left = ph[k].duration - u;
+    for (size_t n = 1; n <= ph.size(); ++n) {
+        const auto& next = ph[(k + n) % ph.size()];
+        if (signal_of(next.state, c.light_inverse) == "red") return left;
+        left += next.duration;
+    }
+    return INFINITY;
+}
+
+}  // namespace sdv::sim

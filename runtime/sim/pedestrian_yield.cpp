@@ -1,0 +1,98 @@
+// Drivers yielding to pedestrians: who, among the pedestrians a driver perceives, it must let
+// pass, and where it stops for them (the `pedestrian_crossing` condition and `stop(at =
+// pedestrian)`, docs/pedestrians.md).
+#include <algorithm>
+#include <cmath>
+
+#include "runtime/sim/leaves.h"
+#include "runtime/sim/pedestrian.h"
+
+namespace sdv::sim {
+namespace {
+
+using road::Vec2;
+
+constexpr double kEntranceZone = 2.0;   // m beyond a crosswalk's ends where a pedestrian waits to enter
+constexpr double kStripMargin = 0.5;    // m beside the strip that still counts as on it
+constexpr double kNearLane = 2.5;       // m beyond the driver's lane edge: close enough to yield
+constexpr double kStandingSpeed = 0.2;  // m/s
+constexpr double kBeforeCrosswalk = 1.0;   // m between the front bumper and the crosswalk's edge
+constexpr double kBeforePedestrian = 2.0;  // m between the front bumper and a pedestrian off crosswalks
+
+// Where p is along a polyline (arc length, possibly < 0 or > length beyond its ends) and how far
+// beside it.
+struct Along {
+    double s = 0, off = INFINITY;
+};
+Along along(const std::vector<Vec2>& line, Vec2 p) {
+    Along best;
+    double s0 = 0;
+    for (size_t i = 0; i + 1 < line.size(); ++i) {
+        const Vec2 d = line[i + 1] - line[i];
+        const double len = norm(d);
+        if (len < 1e-9) continue;
+        double u = dot(p - line[i], d) / len;
+        const bool first = i == 0, last = i + 2 == line.size();
+        const double clamped = std::clamp(u, first ? -INFINITY : 0.0, last ? INFINITY : len);
+        const Vec2 q = line[i] + (clamped / len) * d;
+        const double off = distance(p, q);
+        if (off < best.off) best = {s0 + clamped, off};
+        s0 += len;
+    }
+    return best;
+}
+
+}  // namespace
+
+std::optional<Yield> pedestrian_ahead(const Leaves& l, double distance_limit) {
+    const World& w = l.w;
+    const Agent& a = l.a;
+    const Driver& d = *a.driver;
+    const double front = l.view.self.s + 0.5 * a.v->length;
+    const double half_lane = 0.5 * l.view.lane_width;
+    std::optional<Yield> best;
+    auto consider = [&](int who, double front_stop) {
+        const double stop_s = front_stop - 0.5 * a.v->length;
+        if (!best || stop_s < best->stop_s) best = Yield{who, stop_s};
+    };
+    // The crosswalks across its path ahead, each where its front would stop before it.
+    for (size_t i = 0; i < d.path.size(); ++i) {
+        const double start = d.path_start[i];
+        if (start > front + distance_limit) break;
+        for (const auto& c : w.net.crosswalks) {
+            for (const auto& x : c.crossings) {
+                if (x.lane != d.path[i]) continue;
+                const double edge = start + x.s - x.half_extent;
+                // Already on it (its front past the near edge), or beyond the look-ahead.
+                if (edge < front - 0.5 || edge - front > distance_limit) continue;
+                for (const Seen& s : l.view.seen) {
+                    const Snap& o = w.snapshot[static_cast<size_t>(s.index)];
+                    if (!o.pedestrian) continue;
+                    const Along at = along(c.centre, {o.x, o.y});
+                    if (at.off > 0.5 * c.width + kStripMargin || at.s < -kEntranceZone || at.s > c.length + kEntranceZone) continue;
+                    // Near its lane, or walking toward it; at an end, only when not walking away.
+                    const bool near = std::fabs(s.f.d) <= half_lane + kNearLane;
+                    const bool toward = s.f.d * s.f.d_d < -0.05;
+                    if (!near && !toward) continue;
+                    if (at.s < 0 || at.s > c.length) {
+                        const Vec2 into = at.s < 0 ? c.centre[1] - c.centre[0] : c.centre[c.centre.size() - 2] - c.centre.back();
+                        const bool standing = std::hypot(o.vx, o.vy) < kStandingSpeed;
+                        if (!standing && dot({o.vx, o.vy}, into) <= 0) continue;
+                    }
+                    consider(s.index, edge - kBeforeCrosswalk);
+                }
+            }
+        }
+    }
+    // A pedestrian in its lane ahead, on no crosswalk it yields at.
+    for (const Seen& s : l.view.seen) {
+        const Snap& o = w.snapshot[static_cast<size_t>(s.index)];
+        if (!o.pedestrian || std::fabs(s.f.d) > half_lane + 0.5 * o.width) continue;
+        const double back = s.f.s - 0.5 * o.length;
+        if (back < front - 0.5 || back - front > distance_limit) continue;
+        consider(s.index, back - kBeforePedestrian);
+    }
+    return best;
+}
+
+}  // namespace sdv::sim
