@@ -103,7 +103,7 @@ bool report(diag::DiagnosticEngine& diags, const diag::SourceManager& sm, const 
 }
 
 int load_scenario(const std::string& file, const std::string& scenario, const Common& c, const WarningFlags& w,
-                  Loaded& out) {
+                  Loaded& out, bool all_if_several) {
     {
         // What the compiler says of a file it cannot read, as it says it (E0006 and the count).
         std::error_code ec;
@@ -158,6 +158,8 @@ int load_scenario(const std::string& file, const std::string& scenario, const Co
             std::cerr << "sdv: error: no scenario '" << scenario << "' in '" << file << "'\n";
             return kFailure;
         }
+    } else if (program->scenarios.size() > 1 && all_if_several) {
+        index = -1;
     } else if (program->scenarios.size() > 1) {
         std::cerr << "sdv: error: '" << file << "' has several scenarios; choose one with --scenario\n";
         return kUsage;

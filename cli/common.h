@@ -60,13 +60,13 @@ bool report(diag::DiagnosticEngine& diags, const diag::SourceManager& sm, const 
 // A scenario to run, from .sdv (compiled), .sdvir (read and validated) or a GeoScenario input.
 struct Loaded {
     ir::Program program;
-    int index = 0;     // the scenario
+    int index = 0;     // the scenario (-1: all of them, when asked for with `all_if_several`)
     std::string text;  // the file's bytes
 };
 
-// Loads `file` and picks `scenario` (empty: the only one). Returns an exit code (kOk: `out`
-// holds it); what went wrong is printed.
+// Loads `file` and picks `scenario` (empty: the only one; with several, an error, or index -1
+// with `all_if_several`). Returns an exit code (kOk: `out` holds it); what went wrong is printed.
 int load_scenario(const std::string& file, const std::string& scenario, const Common& c, const WarningFlags& w,
-                  Loaded& out);
+                  Loaded& out, bool all_if_several = false);
 
 }  // namespace sdv::cli

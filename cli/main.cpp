@@ -272,9 +272,30 @@ int cmd_run_cosim(const RunArgs& args, ir::Program program, int index, const std
     return res.exit_status;
 }
 
+int run_one(const RunArgs& args, Loaded& loaded);
+
+// `sdv run`: one scenario, or each scenario of a file that has several, into OUT/<scenario>
+// (default out/<scenario>); the exit status is 0 when every one passed.
 int cmd_run(const RunArgs& args, const Common& c, const WarningFlags& w) {
     Loaded loaded;
-    if (const int e = load_scenario(args.file, args.scenario, c, w, loaded); e != kOk) return e;
+    const bool single_only = args.variant || !args.cosim.empty() || !args.junit.empty();
+    if (const int e = load_scenario(args.file, args.scenario, c, w, loaded, !single_only); e != kOk) return e;
+    if (loaded.index >= 0) return run_one(args, loaded);
+    int status = kOk;
+    const auto count = loaded.program.scenarios.size();
+    for (size_t i = 0; i < count; ++i) {
+        RunArgs one = args;
+        one.scenario = loaded.program.scenarios[i].name;
+        one.out = (std::filesystem::path(args.out.empty() ? "out" : args.out) / one.scenario).string();
+        Loaded copy{loaded.program, static_cast<int>(i), loaded.text};
+        const int e = run_one(one, copy);
+        if (e != kOk && status == kOk) status = e;
+    }
+    std::cout << count << " scenarios run\n";
+    return status;
+}
+
+int run_one(const RunArgs& args, Loaded& loaded) {
     if (args.variant) {
         ir::Scenario& vs = loaded.program.scenarios[static_cast<size_t>(loaded.index)];
         const campaign::VariantSpace space(vs.vary);

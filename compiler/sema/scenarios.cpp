@@ -401,7 +401,21 @@ void Checker::check_light(const ast::LightDecl& l, ScenarioCtx& ctx) {
     out.name = l.name.str();
     out.loc = loc(l.range);
     if (ctx.road != nullptr && ctx.road->road.kind == ir::RoadKind::road) {
-        error("E0106", l.name.range, "road '" + ctx.road->name + "' has no traffic lights");
+        // A road's lights are those of its signalised crosswalks.
+        std::vector<std::string> names;
+        for (const auto& c : ctx.road->road.crosswalks) {
+            if (c.signalised) names.push_back(ctx.road->name + "." + c.name);
+        }
+        if (names.empty()) {
+            auto* d = error("E0106", l.name.range, "road '" + ctx.road->name + "' has no traffic lights");
+            d->notes.push_back({{}, "a road's lights are those of its signalised crosswalks ('crosswalk NAME at S signalised')"});
+        } else if (std::find(names.begin(), names.end(), out.name) == names.end()) {
+            auto* d = error("E0106", l.name.range, "unknown traffic light '" + out.name + "'");
+            add_suggestion(*d, out.name, names);
+            std::string list;
+            for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+            d->notes.push_back({{}, "the road's lights are " + list});
+        }
     } else if (ctx.road != nullptr && ctx.road->road.kind == ir::RoadKind::junction) {
         const std::vector<std::string> names = {ctx.road->name + ".ns", ctx.road->name + ".ew"};
         if (ctx.road->road.control != "traffic_lights") {

@@ -42,6 +42,7 @@ std::string plot_run(const std::string& dir, std::string& error) {
         return "";
     }
     std::map<std::string, std::vector<Sample>> paths;  // ordered by vehicle name
+    std::map<std::string, bool> pedestrian;            // the `kind` column says so
     std::vector<std::string> order;
     std::string line;
     std::getline(tc, line);
@@ -52,6 +53,7 @@ std::string plot_run(const std::string& dir, std::string& error) {
         while (std::getline(ss, cell, ',')) f.push_back(cell);
         if (f.size() < 8) continue;
         if (!paths.count(f[2])) order.push_back(f[2]);
+        pedestrian[f[2]] = f[3] == "pedestrian";
         paths[f[2]].push_back({std::atof(f[0].c_str()), std::atof(f[4].c_str()), std::atof(f[5].c_str()), std::atof(f[7].c_str())});
     }
     // Extent of the map panel: the vehicles' paths plus a margin (whole maps can be huge).
@@ -87,19 +89,50 @@ std::string plot_run(const std::string& dir, std::string& error) {
         }
         o << "\"/>\n";
     };
+    // Walkways and crosswalks (road.json has them only when the road does): closed outlines of
+    // their two bounds, walkways light grey, crosswalks hatched.
+    auto area = [&](const nlohmann::json& a, const char* style) {
+        const auto left = a.value("left", nlohmann::json()), right = a.value("right", nlohmann::json());
+        auto point = [](const nlohmann::json& p) { return p.is_array() && p.size() == 2 && p[0].is_number() && p[1].is_number(); };
+        if (!left.is_array() || !right.is_array() || left.size() < 2 || right.size() < 2) return;
+        if (!point(left.front()) || !point(left.back()) || !point(right.front()) || !point(right.back())) return;
+        nlohmann::json ring = left;
+        // Bounds may run either way: join the right one from the end nearest the left one's end.
+        auto at = [](const nlohmann::json& p) { return std::pair{p[0].get<double>(), p[1].get<double>()}; };
+        auto dist = [&](const nlohmann::json& p, const nlohmann::json& q) {
+            const auto [ax, ay] = at(p);
+            const auto [bx, by] = at(q);
+            return std::hypot(ax - bx, ay - by);
+        };
+        const bool same = dist(left.back(), right.back()) <= dist(left.back(), right.front());
+        for (size_t k = 0; k < right.size(); ++k) ring.push_back(right[same ? right.size() - 1 - k : k]);
+        ring.push_back(left.front());
+        poly(ring, style);
+    };
+    if (road.contains("walkways") && road["walkways"].is_array()) {
+        for (const auto& w : road["walkways"]) area(w, "fill=\"#eeeff1\" stroke=\"#ccc\"");
+    }
     for (const auto& l : road["lanes"]) {
         poly(l.value("left", nlohmann::json()), "stroke=\"#bbb\"");
         poly(l.value("right", nlohmann::json()), "stroke=\"#bbb\"");
         poly(l.value("centre", nlohmann::json()), "stroke=\"#eee\" stroke-dasharray=\"4 4\"");
     }
+    if (road.contains("crosswalks") && road["crosswalks"].is_array()) {
+        o << "<defs><pattern id=\"zebra\" width=\"4\" height=\"4\" patternUnits=\"userSpaceOnUse\" patternTransform=\"rotate(45)\">"
+             "<rect width=\"2\" height=\"4\" fill=\"#999\"/></pattern></defs>\n";
+        for (const auto& c : road["crosswalks"]) area(c, "fill=\"url(#zebra)\" stroke=\"#999\"");
+    }
+    // Pedestrians' paths are dashed and labelled as pedestrians, here and in the speed plot.
+    auto label = [&](const std::string& name) { return pedestrian[name] ? name + " (pedestrian)" : name; };
+    auto dash = [&](const std::string& name) { return pedestrian[name] ? " stroke-dasharray=\"5 3\"" : ""; };
     o << "</g>\n<g id=\"paths\" fill=\"none\" stroke-width=\"2\">\n";
     for (size_t i = 0; i < order.size(); ++i) {
         const auto& ps = paths[order[i]];
         const char* c = kColours[i % 8];
-        o << "<polyline stroke=\"" << c << "\" points=\"";
+        o << "<polyline stroke=\"" << c << "\"" << dash(order[i]) << " points=\"";
         for (size_t k = 0; k < ps.size(); k += 3) o << f2(X(ps[k].x)) << "," << f2(Y(ps[k].y)) << " ";
         o << "\"/>\n<circle cx=\"" << f2(X(ps.front().x)) << "\" cy=\"" << f2(Y(ps.front().y)) << "\" r=\"4\" fill=\"" << c << "\"/>\n";
-        o << "<text x=\"" << f2(X(ps.back().x) + 5) << "\" y=\"" << f2(Y(ps.back().y) - 5) << "\" fill=\"" << c << "\" stroke=\"none\">" << order[i] << "</text>\n";
+        o << "<text x=\"" << f2(X(ps.back().x) + 5) << "\" y=\"" << f2(Y(ps.back().y) - 5) << "\" fill=\"" << c << "\" stroke=\"none\">" << label(order[i]) << "</text>\n";
     }
     o << "</g>\n";
     // Speed profiles.
@@ -114,12 +147,14 @@ std::string plot_run(const std::string& dir, std::string& error) {
     }
     for (size_t i = 0; i < order.size(); ++i) {
         const auto& ps = paths[order[i]];
-        o << "<polyline fill=\"none\" stroke=\"" << kColours[i % 8] << "\" stroke-width=\"1.5\" points=\"";
+        o << "<polyline fill=\"none\" stroke=\"" << kColours[i % 8] << "\" stroke-width=\"1.5\"" << dash(order[i]) << " points=\"";
         for (size_t k = 0; k < ps.size(); k += 3) {
             o << f2(left + w * ps[k].t / tmax) << "," << f2(top + h - h * std::fabs(ps[k].speed) / vmax) << " ";
         }
-        o << "\"/>\n<text x=\"" << f2(left + w + 5) << "\" y=\"" << f2(top + 12 + 14 * static_cast<double>(i)) << "\" fill=\""
-          << kColours[i % 8] << "\">" << order[i] << "</text>\n";
+        // The legend inside the plot's top right corner (a pedestrian's label is long), on a halo.
+        o << "\"/>\n<text x=\"" << f2(left + w - 6) << "\" y=\"" << f2(top + 14 + 14 * static_cast<double>(i))
+          << "\" text-anchor=\"end\" stroke=\"white\" stroke-width=\"3\" paint-order=\"stroke\" fill=\"" << kColours[i % 8] << "\">"
+          << label(order[i]) << "</text>\n";
     }
     o << "</g>\n</svg>\n";
     return o.str();

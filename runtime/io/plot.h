@@ -1,5 +1,8 @@
 // `sdv plot`: a static SVG figure of a run for papers and CI logs, no browser needed: the
 // vehicles' paths over the road (top) and their speed profiles over time (bottom).
+// Pedestrians are in both, dashed and labelled "NAME (pedestrian)": the figure shows who went
+// where when, and a pedestrian's walking and standing is part of that (a car slowing for a
+// crossing reads against it). Walkways and crosswalks of road.json are drawn under the paths.
 #pragma once
 
 #include <string>

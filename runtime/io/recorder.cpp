@@ -111,6 +111,29 @@ std::string decision_line(const sim::World& w, const sim::Agent& a, const sim::P
     return o.str();
 }
 
+namespace {
+
+// A JSON string literal (names come from maps: ids, but any text is written validly).
+std::string json_string(const std::string& s) {
+    std::string out = "\"";
+    for (const char ch : s) {
+        const auto c = static_cast<unsigned char>(ch);
+        if (c == '"' || c == '\\') {
+            out += '\\';
+            out += ch;
+        } else if (c < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", c);
+            out += buf;
+        } else {
+            out += ch;
+        }
+    }
+    return out + "\"";
+}
+
+}  // namespace
+
 std::string road_json(const sim::World& w) {
     const auto& net = w.net;
     std::ostringstream o;
@@ -158,7 +181,40 @@ std::string road_json(const sim::World& w) {
         }
         o << "],\"offset\":" << fmt(it != w.programs.end() ? it->second->offset : 0.0, 3) << "}";
     }
-    o << "]}\n";
+    o << "]";
+    // Pedestrian areas, only when the road has them (runs without keep their road.json).
+    if (!net.crosswalks.empty()) {
+        o << ",\"crosswalks\":[";
+        for (size_t i = 0; i < net.crosswalks.size(); ++i) {
+            const auto& c = net.crosswalks[i];
+            o << (i ? "," : "") << "{\"name\":" << json_string(c.name) << ",\"centre\":";
+            pts(c.centre);
+            o << ",\"left\":";
+            pts(c.left_bound);
+            o << ",\"right\":";
+            pts(c.right_bound);
+            o << ",\"width\":" << fmt(c.width, 2);
+            if (c.light >= 0 && static_cast<size_t>(c.light) < net.lights.size()) {
+                o << ",\"light\":" << json_string(net.lights[static_cast<size_t>(c.light)].name)
+                  << ",\"light_inverse\":" << (c.light_inverse ? "true" : "false");
+            }
+            o << "}";
+        }
+        o << "]";
+    }
+    if (!net.walkways.empty()) {
+        o << ",\"walkways\":[";
+        for (size_t i = 0; i < net.walkways.size(); ++i) {
+            const auto& wk = net.walkways[i];
+            o << (i ? "," : "") << "{\"name\":" << json_string(wk.name) << ",\"left\":";
+            pts(wk.left_bound);
+            o << ",\"right\":";
+            pts(wk.right_bound);
+            o << "}";
+        }
+        o << "]";
+    }
+    o << "}\n";
     return o.str();
 }
 

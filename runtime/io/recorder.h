@@ -52,7 +52,9 @@ private:
 };
 
 // The geometry a viewer needs, in metres, rounded to centimetres: lane centre lines and bounds
-// (every ~1 m), stop lines, lights with the lanes they control and their programs.
+// (every ~1 m), stop lines, lights with the lanes they control and their programs; when the
+// road has them, crosswalks (centre, bounds, width, the pedestrians' light and whether it is
+// the vehicles' one inverted) and walkways (bounds).
 std::string road_json(const sim::World& world);
 
 // One planning cycle as a line of decisions.jsonl.

@@ -157,7 +157,9 @@ std::string view_report(const std::string& run_dir, std::string& error) {
     data += ",\"lanes\":" + Json(lanes).dump() + ",\"maneuvers\":" + Json(maneuvers).dump() + ",\"vehicles\":[";
     for (size_t i = 0; i < vehicles.size(); ++i) {
         const Series& v = vehicles[i];
-        const auto sz = sizes.count(v.name) ? sizes[v.name] : std::pair<double, double>{4.5, 1.8};
+        // Pedestrians default to 0.5 m x 0.5 m (a disc of 0.25 m radius in the viewer).
+        const std::pair<double, double> fallback = v.kind == "pedestrian" ? std::pair{0.5, 0.5} : std::pair{4.5, 1.8};
+        const auto sz = sizes.count(v.name) ? sizes[v.name] : fallback;
         data += (i ? ",{" : "{");
         data += "\"name\":" + Json(v.name).dump() + ",\"kind\":" + Json(v.kind).dump() + ",\"length\":" + Json(sz.first).dump() +
                 ",\"width\":" + Json(sz.second).dump() + ",\"first\":" + std::to_string(v.first);

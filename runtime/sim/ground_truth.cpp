@@ -201,7 +201,9 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
             }
             const bool close = bound < need || bound <= 0 || was_touching;
             if (close) s.clearance = gap(boxes[i], boxes[j]);
-            const bool hit = close && s.clearance <= 0;
+            // Pedestrians brushing past each other in a crowd are not a traffic collision (the
+            // social force keeps their bodies apart); every other contact is.
+            const bool hit = close && s.clearance <= 0 && !(agents[i].v->pedestrian && agents[j].v->pedestrian);
             s.lateral = std::min(lateral_clearance(frames[i], frames[j], frames[i].heading, reach),
                                  lateral_clearance(frames[i], frames[j], frames[j].heading, reach));
             // Along the lane, while both centres are in the same lane or the one ahead is in

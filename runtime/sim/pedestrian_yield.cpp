@@ -18,6 +18,8 @@ constexpr double kNearLane = 2.5;       // m beyond the driver's lane edge: clos
 constexpr double kStandingSpeed = 0.2;  // m/s
 constexpr double kBeforeCrosswalk = 1.0;   // m between the front bumper and the crosswalk's edge
 constexpr double kBeforePedestrian = 2.0;  // m between the front bumper and a pedestrian off crosswalks
+constexpr double kFacing = 0.3;  // cos of the angle within which a standing pedestrian faces the crosswalk
+constexpr double kEntering = 3.0;  // s: a pedestrian walking into the lane within this is yielded to
 
 // Where p is along a polyline (arc length, possibly < 0 or > length beyond its ends) and how far
 // beside it.
@@ -75,19 +77,27 @@ std::optional<Yield> pedestrian_ahead(const Leaves& l, double distance_limit) {
                     const bool toward = s.f.d * s.f.d_d < -0.05;
                     if (!near && !toward) continue;
                     if (at.s < 0 || at.s > c.length) {
-                        const Vec2 into = at.s < 0 ? c.centre[1] - c.centre[0] : c.centre[c.centre.size() - 2] - c.centre.back();
+                        // At an end: walking into the crosswalk, or standing there facing it
+                        // (waiting to cross; one who has crossed faces away from it).
+                        Vec2 into = at.s < 0 ? c.centre[1] - c.centre[0] : c.centre[c.centre.size() - 2] - c.centre.back();
+                        into = (1.0 / std::max(norm(into), 1e-9)) * into;
                         const bool standing = std::hypot(o.vx, o.vy) < kStandingSpeed;
-                        if (!standing && dot({o.vx, o.vy}, into) <= 0) continue;
+                        const bool facing = dot({std::cos(o.yaw), std::sin(o.yaw)}, into) > kFacing;
+                        if (standing ? !facing : dot({o.vx, o.vy}, into) <= 0) continue;
                     }
                     consider(s.index, edge - kBeforeCrosswalk);
                 }
             }
         }
     }
-    // A pedestrian in its lane ahead, on no crosswalk it yields at.
+    // A pedestrian in its lane ahead, or walking into it within kEntering, on no crosswalk it
+    // yields at.
     for (const Seen& s : l.view.seen) {
         const Snap& o = w.snapshot[static_cast<size_t>(s.index)];
-        if (!o.pedestrian || std::fabs(s.f.d) > half_lane + 0.5 * o.width) continue;
+        if (!o.pedestrian) continue;
+        const double outside = std::fabs(s.f.d) - (half_lane + 0.5 * std::max(o.length, o.width));
+        const bool entering = s.f.d * s.f.d_d < 0 && outside < kEntering * std::fabs(s.f.d_d);
+        if (outside > 0 && !entering) continue;
         const double back = s.f.s - 0.5 * o.length;
         if (back < front - 0.5 || back - front > distance_limit) continue;
         consider(s.index, back - kBeforePedestrian);

@@ -27,8 +27,9 @@ int probe_choice(const catalog::ParamDef& p) {
 
 }  // namespace
 
-TEST_CASE("every maneuver parameter of the catalog binds to a configuration field or the request") {
+TEST_CASE("every vehicle maneuver parameter of the catalog binds to a configuration field or the request") {
     for (const auto& m : catalog::maneuvers()) {
+        if (m.agent != catalog::Agent::vehicle) continue;
         for (const auto& p : m.params) {
             CAPTURE(m.name);
             CAPTURE(p.name);
@@ -50,6 +51,7 @@ TEST_CASE("every maneuver parameter of the catalog binds to a configuration fiel
 
 TEST_CASE("two parameters of one maneuver never bind the same field") {
     for (const auto& m : catalog::maneuvers()) {
+        if (m.agent != catalog::Agent::vehicle) continue;
         for (size_t i = 0; i < m.params.size(); ++i) {
             for (size_t j = i + 1; j < m.params.size(); ++j) {
                 CAPTURE(m.name);
@@ -58,6 +60,21 @@ TEST_CASE("two parameters of one maneuver never bind the same field") {
             }
         }
     }
+}
+
+TEST_CASE("pedestrian maneuvers bind no planner field: they set the walker's intent") {
+    int n = 0;
+    for (const auto& m : catalog::maneuvers()) {
+        if (m.agent != catalog::Agent::pedestrian) continue;
+        ++n;
+        CHECK(static_cast<int>(m.kind) >= static_cast<int>(catalog::kFirstPedestrianManeuver));
+        CHECK(planner::candidate_count(planner::default_config(m.kind)) == 0);
+        for (const auto& p : m.params) {
+            CAPTURE(m.name);
+            CHECK(p.field == catalog::ConfigField::none);
+        }
+    }
+    CHECK(n == 8);
 }
 
 TEST_CASE("conditions bind no configuration field") {
