@@ -100,6 +100,11 @@ ENTRIES = {
     "E0407": ("missing alternative", "The condition needs at least one of a group of parameters."),
     "E0408": ("duplicate argument", "The same parameter is given twice."),
     "E0410": ("empty composite", "A fallback, sequence or parallel without children."),
+    "E0411": ("tree of the other agent kind",
+              "A pedestrian's tree uses a vehicle's leaf, or a vehicle's tree a pedestrian's: "
+              "pedestrians walk by the catalog's pedestrian maneuvers and conditions, vehicles "
+              "drive by theirs (`sdv catalog` says which leaf is for whom; conditions such as "
+              "`sim_time` and `reached_goal` are for any agent)."),
     "E0501": ("no road", "A scenario must name its road, junction or map with `road NAME`."),
     "E0502": ("vehicles overlap", "Two vehicles start with overlapping footprints."),
     "E0503": ("off the road", "A position lies outside the road (before its start, past its end, or beyond its lane)."),

@@ -267,7 +267,7 @@ ir::Vehicle Checker::check_vehicle(const ast::VehicleDecl& v, ScenarioCtx& ctx,
     if (out.kind == ir::VehicleKind::sdv) {
         if (v.trees.empty()) {
             auto* d = error("E0505", v.name.range, what + " is an " + kind + " but has no tree");
-            d->notes.push_back({{}, v.is_pedestrian ? "add e.g. 'tree std.pedestrian.walk()' (import \"std/pedestrian.sdv\")"
+            d->notes.push_back({{}, v.is_pedestrian ? "add e.g. 'tree std.walk()' (import \"std/pedestrian.sdv\")"
                                                     : "add e.g. 'tree std.drive()' (import \"std/drive.sdv\")"});
         } else {
             out.tree = expand_vehicle_tree(v.trees[0], ctx, program);
@@ -344,7 +344,7 @@ void Checker::check_tree_agent(const ast::TreeRef& ref, const ir::Vehicle& v, co
         auto* d = error("E0411", ref.range, "tree '" + ref.name.str() + "' is not a " + (v.pedestrian ? "pedestrian" : "vehicle") +
                                                 "'s tree: its " + leaf + " (" + file + ":" + std::to_string(n.loc.line) + ") is for " +
                                                 (agent == catalog::Agent::pedestrian ? "pedestrians" : "vehicles"));
-        d->notes.push_back({{}, v.pedestrian ? "a pedestrian's tree walks: e.g. 'tree std.pedestrian.walk()' (import \"std/pedestrian.sdv\"); `sdv catalog` lists the leaves for pedestrians"
+        d->notes.push_back({{}, v.pedestrian ? "a pedestrian's tree walks: e.g. 'tree std.walk()' (import \"std/pedestrian.sdv\"); `sdv catalog` lists the leaves for pedestrians"
                                              : "a vehicle's tree drives: e.g. 'tree std.drive()'; `sdv catalog` lists the leaves for vehicles"});
         return;
     }
