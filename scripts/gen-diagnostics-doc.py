@@ -174,7 +174,7 @@ ENTRIES = {
               "A vehicle names a route or trajectory the file does not define, a way refers to a "
               "missing node, or the map is not found (give its directory with `--map-dir`)."),
     "E0913": ("unsupported GeoScenario element",
-              "An element or vehicle type sdv cannot simulate yet (pedestrians, external vehicles)."),
+              "An element, agent type or tree leaf sdv cannot simulate yet (external vehicles, other pedestrian types such as EP, a `collision_vehicle_vid` or the `at_desired_speed` condition of a pedestrian tree)."),
     "W0101": ("unused-tree", "A tree of the main file is used by no scenario (only when the file has a scenario)."),
     "W0102": ("unused-parameter", "A tree parameter is never referenced in the tree."),
     "W0103": ("unused-import", "Nothing from an import is used (only when the file has a scenario)."),

@@ -5,6 +5,7 @@
 #include "compiler/diag/suggest.h"
 #include "runtime/catalog/catalog.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -84,6 +85,18 @@ public:
                                          "parameter '" + *it.key + "' of " + what_ + " is ignored");
                 if (auto m = diag::closest_match(*it.key, known)) d.notes.push_back({{}, "did you mean '" + *m + "'?"});
                 d.notes.push_back({{}, "the reference ignores it as well; sdv reads: " + join(known)});
+            }
+        }
+    }
+
+    // A parameter the reference reads but sdv has no equivalent for: taken, with warning W0901
+    // saying what differs.
+    void ignore(std::initializer_list<const char*> names, const std::string& note) {
+        for (const char* n : names) {
+            if (const BtItem* it = take({n})) {
+                diags_.warning("W0901", "gss-ignored-parameter", it->key_range,
+                               "parameter '" + *it->key + "' of " + what_ + " is ignored")
+                    .notes.push_back({{}, note});
             }
         }
     }
@@ -268,18 +281,32 @@ private:
 
 // ------------------------------------------------------------------ MConfig classes
 
-enum class Conv { sampled, quantity, integer, boolean, side, vehicle, stop_target, lateral, delta_s, ignore_if_zero, ignore };
+// ignore: W0901 (FieldMap::note says why); accept: read and not needed (the maneuver does what
+// the reference does whatever it says); unsupported: E0913 (FieldMap::note says what sdv lacks).
+enum class Conv {
+    sampled, quantity, integer, boolean, side, vehicle, stop_target, lateral, delta_s, ignore_if_zero, ignore, accept,
+    unsupported
+};
 
 struct FieldMap {
     const char* ref;
     const char* ours;  // catalog parameter ("" for ignored fields)
     Conv conv;
+    // ignore: why (default: sdv's planner has no equivalent setting); unsupported: what sdv
+    // lacks (the field is an error unless it is -1, the reference's "not set").
+    const char* note = nullptr;
 };
 
 struct ClassMap {
     const char* mconfig;
     const char* maneuver;
     std::vector<FieldMap> fields;
+    std::vector<Arg> fixed = {};       // parameters every node of the class gets
+    const char* comment = nullptr;     // kept above each node: what differs from the reference
+    bool pedestrian = false;           // a class of the reference's pedestrians (sp/ManeuverConfig.py)
+    // A node that follows the maneuver in a sequence: what the reference's maneuver also does
+    // and the catalog's does not.
+    const char* then = nullptr;
 };
 
 // Fields every MConfig has.
@@ -328,16 +355,91 @@ const std::vector<ClassMap>& classes() {
     return k;
 }
 
-const ClassMap* find_class(const std::string& name) {
-    for (const auto& c : classes()) {
+// The reference's pedestrians (sp/Pedestrian.py) walk at their default desired speed, 2 m/s
+// (SP.default_desired_speed): every pedestrian maneuver plans with it (sp/ManeuverModels.py),
+// whatever the MConfig says; the return to the entrance and the increase of the walking speed
+// use 1.5 times it.
+constexpr const char* kPedestrianSpeed = "2 m/s";
+constexpr const char* kPedestrianFastSpeed = "3 m/s";
+constexpr const char* kWalkOn = "maneuver walk(speed = 2 m/s)";  // on to the next waypoint
+constexpr const char* kPedestrianIgnores =
+    "the reference's pedestrians do not read it either: they walk by the social force model at their desired "
+    "speed (2 m/s)";
+
+// Fields every MConfig of the reference's pedestrians has (sp/ManeuverConfig.py): the vehicle
+// planner's settings, which no pedestrian maneuver reads.
+const std::vector<FieldMap>& pedestrian_common_fields() {
+    static const std::vector<FieldMap> k = {
+        {"max_long_jerk", "", Conv::ignore, kPedestrianIgnores},
+        {"max_lat_jerk", "", Conv::ignore, kPedestrianIgnores},
+        {"max_long_acc", "", Conv::ignore, kPedestrianIgnores},
+        {"max_lat_acc", "", Conv::ignore, kPedestrianIgnores},
+        {"expected_offset_per_sec", "", Conv::ignore, kPedestrianIgnores},
+        {"expected_long_acc_per_sec", "", Conv::ignore, kPedestrianIgnores},
+        {"expected_lat_acc_per_sec", "", Conv::ignore, kPedestrianIgnores},
+        {"expected_long_jerk_per_sec", "", Conv::ignore, kPedestrianIgnores},
+        {"expected_lat_jerk_per_sec", "", Conv::ignore, kPedestrianIgnores},
+        {"feasibility_constraints", "", Conv::ignore, kPedestrianIgnores},
+        {"cost_weight", "", Conv::ignore, kPedestrianIgnores},
+        {"aggressiveness_level", "", Conv::ignore,
+         "only the reference's crosswalk selection reads it (MSelectCrosswalkByLightConfig)"},
+    };
+    return k;
+}
+
+const std::vector<ClassMap>& pedestrian_classes() {
+    static const std::vector<ClassMap> k = {
+        {"MKeepInLaneConfig", "walk",
+         {{"vel", "", Conv::ignore,
+           "the reference's pedestrian walks at its desired speed, 2 m/s (sp/Pedestrian.py), and does not read vel; "
+           "so does sdv's"},
+          {"time", "", Conv::ignore, kPedestrianIgnores},
+          {"max_diff", "", Conv::ignore, kPedestrianIgnores},
+          {"collision_vehicle_vid", "", Conv::unsupported,
+           "sdv has no maneuver that times the walk to meet a vehicle at the crosswalk (the reference's ensured "
+           "collision, speed_to_ensure_collision)"}},
+         {{"speed", kPedestrianSpeed}},
+         "MKeepInLaneConfig: on to its next waypoint (the target crosswalk's entrance or far end, else the goal) at "
+         "the reference's desired speed",
+         true},
+        // The reference's pedestrian stops where it is, whatever the type (plan_stop).
+        {"MStopConfig", "stand",
+         {{"type", "", Conv::accept}, {"pos", "", Conv::accept}, {"distance", "", Conv::accept}},
+         {},
+         nullptr,
+         true},
+        {"MEnterCrosswalkConfig", "enter_crosswalk", {}, {{"speed", kPedestrianSpeed}}, nullptr, true},
+        {"MExitCrosswalkConfig", "exit_crosswalk", {}, {{"speed", kPedestrianSpeed}}, nullptr, true},
+        {"MWaitAtCrosswalkConfig", "wait_at_crosswalk", {}, {{"speed", kPedestrianSpeed}}, nullptr, true},
+        {"MReturnToEntranceConfig", "turn_back", {}, {{"speed", kPedestrianFastSpeed}},
+         "MReturnToEntranceConfig: back to the entrance at 1.5 times the desired speed; the reference's turns "
+         "back from anywhere, sdv's only on the crosswalk (FAILURE elsewhere)",
+         true},
+        {"MIncreaseWalkingSpeedConfig", "speed_up", {}, {{"factor", "1.5"}, {"max_speed", kPedestrianFastSpeed}},
+         nullptr, true},
+        {"MSelectCrosswalkByLightConfig", "select_crosswalk",
+         {{"aggressiveness_level", "", Conv::ignore,
+           "sdv's select_crosswalk(by = light) takes the nearest crosswalk on the way whose signal is green, else the "
+           "nearest; the reference weighs yellow and red signals by aggressiveness (1: waits on yellow, 3: crosses "
+           "on red)"}},
+         {{"by", "light"}},
+         "MSelectCrosswalkByLightConfig: choose the crosswalk by its pedestrian signal and walk on to its entrance",
+         true,
+         kWalkOn},
+    };
+    return k;
+}
+
+const ClassMap* find_class(const std::string& name, BtAgent agent) {
+    for (const auto& c : agent == BtAgent::pedestrian ? pedestrian_classes() : classes()) {
         if (name == c.mconfig) return &c;
     }
     return nullptr;
 }
 
-std::vector<std::string> class_names() {
+std::vector<std::string> class_names(BtAgent agent) {
     std::vector<std::string> v;
-    for (const auto& c : classes()) v.emplace_back(c.mconfig);
+    for (const auto& c : agent == BtAgent::pedestrian ? pedestrian_classes() : classes()) v.emplace_back(c.mconfig);
     return v;
 }
 
@@ -350,7 +452,11 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
     std::vector<Arg> out;
     std::vector<std::string> known;
     std::vector<FieldMap> fields = cm.fields;
-    fields.insert(fields.end(), common_fields().begin(), common_fields().end());
+    for (const FieldMap& f : cm.pedestrian ? pedestrian_common_fields() : common_fields()) {
+        // A class may read a common field its own way (MSelectCrosswalkByLightConfig).
+        const bool own = std::any_of(cm.fields.begin(), cm.fields.end(), [&](const FieldMap& g) { return std::string(g.ref) == f.ref; });
+        if (!own) fields.push_back(f);
+    }
     for (const FieldMap& f : fields) {
         known.emplace_back(f.ref);
         const BtItem* it = args.take({f.ref});
@@ -402,13 +508,22 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
             case Conv::ignore:
                 diags.warning("W0901", "gss-ignored-parameter", it->key_range,
                               "parameter '" + std::string(f.ref) + "' of " + cm.mconfig + " is ignored")
-                    .notes.push_back({{}, "sdv's planner has no equivalent setting"});
+                    .notes.push_back({{}, f.note != nullptr ? f.note : "sdv's planner has no equivalent setting"});
+                continue;
+            case Conv::accept: continue;
+            case Conv::unsupported:
+                if (auto n = val.number(*it); n && *n != -1) {
+                    diags.error("E0913", it->key_range,
+                                "parameter '" + std::string(f.ref) + "' of " + cm.mconfig + " is not supported by sdv")
+                        .notes.push_back({{}, f.note});
+                }
                 continue;
         }
         if (text) out.push_back({f.ours, *text});
     }
     args.finish(true, known);
     if (diags.error_count() > before) return std::nullopt;
+    for (const Arg& a : cm.fixed) out.push_back(a);
     // A cut-in needs a target vehicle; the reference also accepts only a target lane, where the
     // vehicle cut in front of is the one beside in that lane.
     if (std::string(cm.maneuver) == "cut_in") {
@@ -443,6 +558,10 @@ struct CondOut {
     bool once = false;
     bool drop = false;     // an action the .sdv model does implicitly (set_target_lane)
     std::string comment;   // kept above the node in the output
+    // Instead of one condition: a fallback of these nodes (`condition ...`, `maneuver ...`),
+    // labelled as the node was.
+    std::vector<std::string> any_of;
+    std::string unsupported;  // what sdv lacks: the condition is an error (E0913)
 };
 
 using CondLower = std::function<void(Args&, Values&, CondOut&)>;
@@ -639,6 +758,152 @@ const std::vector<CondMap>& condition_map() {
     return k;
 }
 
+// A distance condition of the reference's pedestrians: `threshold` (default `def`) in metres.
+std::string threshold(Args& a, Values& v, const char* def) {
+    const auto* t = a.take({"threshold"});
+    return t ? v.quantity(*t, "m").value_or(def) : std::string(def);
+}
+
+// The conditions of the reference's pedestrians (sp/btree/BehaviorModels.py test_condition) on
+// the catalog's pedestrian conditions. Their "target crosswalk" is planned by the reference's
+// SPPlanner when the pedestrian starts and after each crossing; sdv's pedestrian chooses it with
+// select_crosswalk, which the lowering of has_target_crosswalk() does.
+const std::vector<CondMap>& pedestrian_condition_map() {
+    static const std::vector<CondMap> k = {
+        {"reached_goal", {"threshold"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "reached_goal";
+             o.args.push_back({"distance", threshold(a, v, "1 m")});
+         }},
+        {"has_target_crosswalk", {},
+         [](Args&, Values&, CondOut& o) {
+             o.comment = "has_target_crosswalk(): the reference plans a target crosswalk on the way to the goal when the "
+                         "pedestrian starts and after each crossing; sdv's chooses the nearest here";
+             o.any_of = {"condition has_target_crosswalk()", "maneuver select_crosswalk(by = nearest)"};
+         }},
+        {"approaching_crosswalk", {"threshold"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "approaching_crosswalk";
+             o.args.push_back({"distance", threshold(a, v, "3 m")});
+         }},
+        {"reached_crosswalk_entrance", {"threshold"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "at_crosswalk_entrance";
+             o.args.push_back({"distance", threshold(a, v, "1.5 m")});
+         }},
+        {"waiting_at_crosswalk_entrance", {},
+         [](Args&, Values&, CondOut& o) {
+             o.name = "at_crosswalk_entrance";
+             o.comment = "waiting_at_crosswalk_entrance(): the reference's holds while its last maneuver was "
+                         "MWaitAtCrosswalkConfig; sdv's pedestrian waits at the entrance, within this distance";
+             o.args.push_back({"distance", "1.5 m"});
+         }},
+        {"reached_crosswalk_exit", {"threshold"},
+         [](Args& a, Values& v, CondOut& o) {
+             o.name = "crosswalk_exit_reached";
+             o.args.push_back({"distance", threshold(a, v, "1.5 m")});
+         }},
+        {"reached_curr_waypoint", {"threshold"},
+         [](Args& a, Values& v, CondOut& o) {
+             const std::string d = threshold(a, v, "1 m");
+             o.comment = "reached_curr_waypoint(): its waypoint is the target crosswalk's entrance, its far end, or the goal";
+             o.any_of = {"condition at_crosswalk_entrance(distance = " + d + ")",
+                         "condition crosswalk_exit_reached(distance = " + d + ")", "condition reached_goal(distance = " + d + ")"};
+         }},
+        {"crosswalk_has_light", {}, [](Args&, Values&, CondOut& o) { o.name = "crosswalk_has_light"; }},
+        {"pedestrian_light_green", {}, [](Args&, Values&, CondOut& o) {
+             o.name = "pedestrian_light";
+             o.args = {{"state", "green"}};
+         }},
+        {"pedestrian_light_yellow", {}, [](Args&, Values&, CondOut& o) {
+             o.name = "pedestrian_light";
+             o.args = {{"state", "yellow"}};
+         }},
+        {"pedestrian_light_red", {}, [](Args&, Values&, CondOut& o) {
+             o.name = "pedestrian_light";
+             o.args = {{"state", "red"}};
+         }},
+        {"can_cross_before_red", {},
+         [](Args& a, Values&, CondOut& o) {
+             o.name = "can_cross_before_red";
+             o.comment = "can_cross_before_red(): the reference also accepts crossing at up to 1.75 times the desired "
+                         "speed, or to 3 m short of the far end, and then walks faster; sdv's holds at the desired speed";
+             a.ignore({"speed_increase_pct", "dist_from_xwalk_exit"},
+                      "sdv's can_cross_before_red compares the time to walk the rest of the crosswalk at the desired "
+                      "speed with the time until red");
+         }},
+        {"in_crosswalk_area", {}, [](Args&, Values&, CondOut& o) {
+             o.name = "on_crosswalk";
+             o.comment = "in_crosswalk_area(): the reference's holds on any crosswalk, sdv's on the target crosswalk";
+         }},
+        {"vehicle_approaching_crosswalk", {}, [](Args&, Values&, CondOut& o) {
+             // sim_time(after = 0 s) always holds: negated, never.
+             o.name = "sim_time";
+             o.args = {{"after", "0 s"}};
+             o.negate = true;
+             o.comment = "vehicle_approaching_crosswalk(): never true, as the reference's (a stub in BehaviorModels.py)";
+         }},
+        {"at_desired_speed", {}, [](Args&, Values&, CondOut& o) {
+             o.unsupported = "sdv's pedestrians have no speed of their own besides the desired one to compare with";
+         }},
+        {"past_crosswalk_halfway", {}, [](Args&, Values&, CondOut& o) {
+             o.unsupported = "no condition of sdv's catalog tells how far along its crosswalk the pedestrian is";
+         }},
+    };
+    return k;
+}
+
+// The condition mapping of a tree: a pedestrian's reads the pedestrian conditions, then the
+// ones any agent shares (sim_time, wait).
+const CondMap* find_condition(const std::string& name, BtAgent agent) {
+    if (agent == BtAgent::pedestrian) {
+        for (const auto& c : pedestrian_condition_map()) {
+            if (name == c.ref) return &c;
+        }
+        if (name != "sim_time" && name != "wait") return nullptr;
+    }
+    for (const auto& c : condition_map()) {
+        if (name == c.ref) return &c;
+    }
+    return nullptr;
+}
+
+std::vector<std::string> condition_names(BtAgent agent) {
+    std::vector<std::string> names;
+    if (agent == BtAgent::pedestrian) {
+        for (const auto& c : pedestrian_condition_map()) names.emplace_back(c.ref);
+        names.emplace_back("sim_time");
+        names.emplace_back("wait");
+    } else {
+        for (const auto& c : condition_map()) names.emplace_back(c.ref);
+    }
+    return names;
+}
+
+// Whose tree a .btree tree is by its own leaves: the MConfig classes and conditions only one of
+// the reference's agents has. unknown when it names none (only MStopConfig, reached_goal, ...).
+BtAgent agent_of(const BtNode& root) {
+    int ped = 0, veh = 0;
+    std::function<void(const BtNode&)> visit = [&](const BtNode& n) {
+        if (n.kind == BtNode::Kind::maneuver) {
+            if (n.call.text != "MStopConfig") {
+                ped += find_class(n.call.text, BtAgent::pedestrian) != nullptr;
+                veh += find_class(n.call.text, BtAgent::vehicle) != nullptr;
+            }
+        } else if (n.kind == BtNode::Kind::condition) {
+            const std::string& c = n.call.text;
+            if (c != "reached_goal" && c != "sim_time" && c != "wait") {
+                ped += find_condition(c, BtAgent::pedestrian) != nullptr;
+                veh += find_condition(c, BtAgent::vehicle) != nullptr;
+            }
+        }
+        for (const BtNode& ch : n.children) visit(ch);
+    };
+    visit(root);
+    if (ped == veh) return BtAgent::unknown;
+    return ped > veh ? BtAgent::pedestrian : BtAgent::vehicle;
+}
+
 }  // namespace
 
 // ------------------------------------------------------------------ the library
@@ -659,6 +924,13 @@ std::string BtreeLibrary::tree_name(const std::string& stem) {
     return s;
 }
 
+BtAgent BtreeLibrary::agent(const std::string& name) const {
+    for (const auto& [path, l] : done_) {
+        if (l.name == name) return l.agent;
+    }
+    return BtAgent::unknown;
+}
+
 std::optional<std::string> BtreeLibrary::find(const std::string& name) const {
     std::string file = name;
     if (fs::path(file).extension() != ".btree") file += ".btree";
@@ -670,13 +942,13 @@ std::optional<std::string> BtreeLibrary::find(const std::string& name) const {
     return std::nullopt;
 }
 
-std::optional<std::string> BtreeLibrary::add_file(const std::string& path, diag::SourceRange where) {
-    const Lowered* l = lower_file(path, where);
+std::optional<std::string> BtreeLibrary::add_file(const std::string& path, diag::SourceRange where, BtAgent agent) {
+    const Lowered* l = lower_file(path, where, agent);
     if (l == nullptr) return std::nullopt;
     return l->name;
 }
 
-std::optional<std::string> BtreeLibrary::add_named(const std::string& name, diag::SourceRange where) {
+std::optional<std::string> BtreeLibrary::add_named(const std::string& name, diag::SourceRange where, BtAgent agent) {
     auto path = find(name);
     if (!path) {
         std::string dirs;
@@ -687,10 +959,10 @@ std::optional<std::string> BtreeLibrary::add_named(const std::string& name, diag
         d.notes.push_back({{}, "add directories with --btree-path DIR"});
         return std::nullopt;
     }
-    return add_file(*path, where);
+    return add_file(*path, where, agent);
 }
 
-const BtreeLibrary::Lowered* BtreeLibrary::lower_file(const std::string& path, diag::SourceRange where) {
+const BtreeLibrary::Lowered* BtreeLibrary::lower_file(const std::string& path, diag::SourceRange where, BtAgent agent) {
     std::error_code ec;
     const std::string key = fs::weakly_canonical(path, ec).string();
     if (auto f = done_.find(key); f != done_.end()) return &f->second;
@@ -723,8 +995,11 @@ const BtreeLibrary::Lowered* BtreeLibrary::lower_file(const std::string& path, d
     while (names_.count(name)) name += "_";
     names_.insert(name);
     t.lowered.name = name;
-    const size_t before = diags_.error_count();
     const BtTree& tree = parsed->trees.front();
+    // Its own leaves say whose tree it is; else who uses it; else a vehicle's.
+    const BtAgent own = agent_of(tree.root);
+    t.lowered.agent = own != BtAgent::unknown ? own : agent != BtAgent::unknown ? agent : BtAgent::vehicle;
+    const size_t before = diags_.error_count();
     const std::string body = lower_node(tree.root, 1, t);
     in_progress_.erase(key);
     if (diags_.error_count() > before) return nullptr;
@@ -745,7 +1020,7 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
             for (const BtNode& c : n.children) s += lower_node(c, depth + 1, t);
             return s + ind + "}\n";
         }
-        case BtNode::Kind::subtree: return ind + lower_subtree(n);
+        case BtNode::Kind::subtree: return ind + lower_subtree(n, t.lowered.agent);
         case BtNode::Kind::condition:
         case BtNode::Kind::maneuver: break;
     }
@@ -753,13 +1028,20 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
     std::string label = tree_name(n.label);
     for (int k = 2; t.labels.count(label); ++k) label = tree_name(n.label) + "_" + std::to_string(k);
     const BtValue& call = n.call;
+    const BtAgent agent = t.lowered.agent;
+    const std::string whose = agent == BtAgent::pedestrian ? "a pedestrian's tree" : "a vehicle's tree";
+    const std::string others = agent == BtAgent::pedestrian ? "vehicles" : "pedestrians";
     if (n.kind == BtNode::Kind::maneuver) {
-        const ClassMap* cm = find_class(call.text);
+        const ClassMap* cm = find_class(call.text, agent);
         if (cm == nullptr) {
-            auto& d = diags_.error("E0902", call.name_range, "unknown maneuver configuration class '" + call.text + "'");
-            if (auto m = diag::closest_match(call.text, class_names())) d.notes.push_back({{}, "did you mean '" + *m + "'?"});
+            const bool other =
+            find_class(call.text, agent == BtAgent::pedestrian ? BtAgent::vehicle : BtAgent::pedestrian) != nullptr;
+            auto& d = diags_.error("E0902", call.name_range,
+                                   other ? "maneuver configuration class '" + call.text + "' is for " + others + ", and this is " + whose
+                                         : "unknown maneuver configuration class '" + call.text + "'");
+            if (auto m = diag::closest_match(call.text, class_names(agent))) d.notes.push_back({{}, "did you mean '" + *m + "'?"});
             std::string all;
-            for (const auto& c : class_names()) all += (all.empty() ? "" : ", ") + c;
+            for (const auto& c : class_names(agent)) all += (all.empty() ? "" : ", ") + c;
             d.notes.push_back({{}, "known classes: " + all});
             return "";
         }
@@ -767,23 +1049,27 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
         if (!args) return "";
         t.labels.insert(label);
         NodeInfo info{label, cm->mconfig, {}};
-        std::string s = ind + label + ": maneuver " + cm->maneuver + "(";
+        std::string s = cm->comment != nullptr ? ind + "# " + cm->comment + "\n" : "";
+        const std::string inner = cm->then != nullptr ? ind + "    " : ind;
+        if (cm->then != nullptr) s += ind + "sequence {\n";
+        s += inner + label + ": maneuver " + cm->maneuver + "(";
         for (size_t i = 0; i < args->size(); ++i) {
             s += (i ? ", " : "") + (*args)[i].name + " = " + (*args)[i].text;
             info.fields.insert((*args)[i].name);
         }
         t.lowered.nodes[n.label].push_back(std::move(info));
-        return s + ")\n";
+        s += ")\n";
+        if (cm->then != nullptr) s += inner + cm->then + "\n" + ind + "}\n";
+        return s;
     }
-    const CondMap* cmap = nullptr;
-    for (const auto& c : condition_map()) {
-        if (call.text == c.ref) cmap = &c;
-    }
+    const CondMap* cmap = find_condition(call.text, agent);
     if (cmap == nullptr) {
-        std::vector<std::string> names;
-        for (const auto& c : condition_map()) names.emplace_back(c.ref);
-        auto& d = diags_.error("E0904", call.name_range, "unknown condition '" + call.text + "'");
-        if (auto m = diag::closest_match(call.text, names)) d.notes.push_back({{}, "did you mean '" + *m + "'?"});
+        const bool other =
+            find_condition(call.text, agent == BtAgent::pedestrian ? BtAgent::vehicle : BtAgent::pedestrian) != nullptr;
+        auto& d = diags_.error("E0904", call.name_range,
+                               other ? "condition '" + call.text + "' is for " + others + ", and this is " + whose
+                                     : "unknown condition '" + call.text + "'");
+        if (auto m = diag::closest_match(call.text, condition_names(agent))) d.notes.push_back({{}, "did you mean '" + *m + "'?"});
         d.notes.push_back({{}, "`sdv catalog` lists sdv's conditions; docs/geoscenario.md maps the reference's onto them"});
         return "";
     }
@@ -792,22 +1078,32 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
     CondOut out;
     cmap->lower(args, val, out);
     args.finish(false, cmap->reads);
+    if (!out.unsupported.empty()) {
+        diags_.error("E0913", call.name_range, "condition '" + call.text + "' is not supported by sdv")
+            .notes.push_back({{}, out.unsupported});
+        return "";
+    }
     if (out.drop) return ind + "# " + n.label + ": " + call.text + "(...) is implied by the maneuver that follows\n";
     t.labels.insert(label);
     t.lowered.nodes[n.label].push_back({label, "", {}});
     std::string s;
     if (!out.comment.empty()) s += ind + "# " + out.comment + "\n";
+    if (!out.any_of.empty()) {
+        s += ind + label + ": fallback {\n";
+        for (const auto& alt : out.any_of) s += ind + "    " + alt + "\n";
+        return s + ind + "}\n";
+    }
     s += ind + (out.once ? "once " : "") + (out.negate ? "not " : "") + label + ": condition " + out.name + "(";
     for (size_t i = 0; i < out.args.size(); ++i) s += (i ? ", " : "") + out.args[i].name + " = " + out.args[i].text;
     return s + ")\n";
 }
 
-std::string BtreeLibrary::lower_subtree(const BtNode& n) {
+std::string BtreeLibrary::lower_subtree(const BtNode& n, BtAgent agent) {
     const Lowered* sub = nullptr;
     if (auto path = find(n.label)) {
-        sub = lower_file(*path, n.label_range);
+        sub = lower_file(*path, n.label_range, agent);
     } else {
-        add_named(n.label, n.label_range);  // reports E0905
+        add_named(n.label, n.label_range, agent);  // reports E0905
     }
     if (sub == nullptr) return "";
     // Overrides: NODE=MConfigClass(...) replaces that node's whole configuration; fields the
@@ -834,10 +1130,10 @@ std::string BtreeLibrary::lower_subtree(const BtNode& n) {
                 .notes.push_back({{}, "expected a configuration, e.g. MVelKeepConfig(vel=MP(12,10,6))"});
             continue;
         }
-        const ClassMap* cm = find_class(it.value.text);
+        const ClassMap* cm = find_class(it.value.text, sub->agent);
         if (cm == nullptr) {
             auto& d = diags_.error("E0902", it.value.name_range, "unknown maneuver configuration class '" + it.value.text + "'");
-            if (auto m = diag::closest_match(it.value.text, class_names())) d.notes.push_back({{}, "did you mean '" + *m + "'?"});
+            if (auto m = diag::closest_match(it.value.text, class_names(sub->agent))) d.notes.push_back({{}, "did you mean '" + *m + "'?"});
             continue;
         }
         if (cm->mconfig != node->second.front().mconfig) {

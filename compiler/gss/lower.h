@@ -8,6 +8,11 @@
 // located diagnostic in the .btree file (E09xx); parameters the reference itself ignores get a
 // warning (W0901).
 //
+// A tree is a vehicle's (btrees/sdv: MVelKeepConfig, lane_occupied, ...) or a pedestrian's
+// (btrees/sp: MKeepInLaneConfig, has_target_crosswalk, ...): the two share names (MStopConfig,
+// reached_goal) with different meanings, so each file is lowered for one agent, the one its own
+// leaves name (else the one that uses it: an SP's tree, a subtree of a pedestrian's tree).
+//
 // The result is .sdv source text, which the ordinary front end then parses and checks, so a
 // .btree and its conversion compile to the same IR by construction.
 #pragma once
@@ -24,6 +29,9 @@
 
 namespace sdv::compiler::gss {
 
+// Whose tree a .btree file is: unknown lets its leaves decide (a vehicle's when they do not).
+enum class BtAgent { unknown, vehicle, pedestrian };
+
 class BtreeLibrary {
 public:
     // `search_path`: directories searched, in order, for NAME.btree.
@@ -31,10 +39,16 @@ public:
 
     // Lowers the .btree file at `path` and every subtree it uses. Returns the .sdv name of its
     // tree, or nullopt after errors. `where` locates the reference in messages (may be invalid).
-    std::optional<std::string> add_file(const std::string& path, diag::SourceRange where = {});
+    // `agent`: who uses it (an SDV, an SP), for files whose leaves do not tell.
+    std::optional<std::string> add_file(const std::string& path, diag::SourceRange where = {},
+                                        BtAgent agent = BtAgent::unknown);
     // The same for a tree referred to by name (`st_standard_driver.btree` or `drive`), looked
     // up along the search path.
-    std::optional<std::string> add_named(const std::string& name, diag::SourceRange where);
+    std::optional<std::string> add_named(const std::string& name, diag::SourceRange where,
+                                         BtAgent agent = BtAgent::unknown);
+
+    // Whose tree the lowered tree `name` (as add_* returned it) is.
+    BtAgent agent(const std::string& name) const;
 
     // Every tree lowered so far, callees before callers, as .sdv text.
     const std::string& text() const { return text_; }
@@ -52,15 +66,16 @@ private:
     };
     struct Lowered {
         std::string name;
+        BtAgent agent = BtAgent::vehicle;
         // Original node name → the .sdv nodes carrying it (names may repeat in a .btree).
         std::map<std::string, std::vector<NodeInfo>> nodes;
     };
     struct TreeState;
 
     std::optional<std::string> find(const std::string& name) const;
-    const Lowered* lower_file(const std::string& path, diag::SourceRange where);
+    const Lowered* lower_file(const std::string& path, diag::SourceRange where, BtAgent agent);
     std::string lower_node(const BtNode& n, int depth, TreeState& t);
-    std::string lower_subtree(const BtNode& n);
+    std::string lower_subtree(const BtNode& n, BtAgent agent);
 
     std::vector<std::string> search_path_;
     diag::SourceManager& sm_;

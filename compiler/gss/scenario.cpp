@@ -129,6 +129,15 @@ public:
                 if (auto a = tags.find("altitude"); a != tags.end()) sc.origin_alt = number(a->second, "origin", "altitude").value_or(0);
             } else if (what == "vehicle") {
                 read_vehicle(n, tags, p, sc);
+            } else if (what == "pedestrian") {
+                read_pedestrian(n, tags, p, sc);
+            } else if (what == "location") {
+                // A named point (an SP's destination). The reference reads node locations only.
+                if (auto name = text(tags, "name")) {
+                    sc.locations[*name] = p;
+                } else {
+                    diags_.error("E0911", p.range, "location node " + std::to_string(id) + " without a 'name' tag");
+                }
             } else if (what == "trafficlight") {
                 read_light(n, tags, sc);
             } else if (what == "staticobject") {
@@ -143,8 +152,8 @@ public:
             } else if (what != "tnode") {
                 diags_.error("E0913", gs->second.range, "node " + std::to_string(id) + ": GeoScenario element '" + what +
                                                             "' is not supported by sdv")
-                    .notes.push_back({{}, "supported: globalconfig, origin, vehicle (SDV, TV, EV), trafficlight, staticobject, "
-                                          "route, trajectory"});
+                    .notes.push_back({{}, "supported: globalconfig, origin, vehicle (SDV, TV, PV, EV), pedestrian (SP, TP, PP), "
+                                          "location, trafficlight, staticobject, route, trajectory, path"});
             }
         }
         for (auto w : osm.children("way")) {
@@ -153,7 +162,7 @@ public:
             if (gs == tags.end()) continue;
             const std::string what = gs->second.value;
             const auto name = text(tags, "name");
-            if (what != "route" && what != "trajectory") {
+            if (what != "route" && what != "trajectory" && what != "path") {
                 diags_.error("E0913", gs->second.range, "way: GeoScenario element '" + what + "' is not supported by sdv");
                 continue;
             }
@@ -163,6 +172,7 @@ public:
             }
             std::vector<GeoPoint> pts;
             std::vector<GsTnode> tnodes;
+            std::vector<GsPathNode> pnodes;
             for (auto nd : w.children("nd")) {
                 const long long ref = nd.attribute("ref").as_llong(0);
                 auto f = nodes.find(ref);
@@ -171,6 +181,23 @@ public:
                     continue;
                 }
                 pts.push_back(f->second);
+                if (what == "path") {
+                    // The reference's speed profile: agentspeed (km/h) at the node, and
+                    // agentacceleration / timetoacceleration (usespeedprofile).
+                    GsPathNode pn;
+                    pn.at = f->second;
+                    const auto ntags = node_tags(osm, ref);
+                    const std::string who = "path '" + *name + "', node " + std::to_string(ref);
+                    if (auto sp = ntags.find("agentspeed"); sp != ntags.end()) {
+                        pn.speed = number(sp->second, who, "agentspeed");
+                        if (pn.speed && *pn.speed < 0) {
+                            diags_.error("E0911", sp->second.range, who + ": tag 'agentspeed' must not be negative");
+                            pn.speed.reset();
+                        }
+                    }
+                    pn.accel = ntags.count("agentacceleration") > 0 || ntags.count("timetoacceleration") > 0;
+                    pnodes.push_back(pn);
+                }
                 if (what == "trajectory") {
                     GsTnode t;
                     t.at = f->second;
@@ -191,6 +218,7 @@ public:
                 continue;
             }
             if (what == "route") sc.routes[*name] = pts;
+            else if (what == "path") sc.paths[*name] = pnodes;
             else sc.trajectories[*name] = tnodes;
         }
         if (!have_config) diags_.error("E0911", {{file_, 0}, {file_, 0}}, "the scenario has no globalconfig node");
@@ -206,8 +234,21 @@ public:
             if (v.btype == "SDV" && !v.route.empty() && !sc.routes.count(v.route)) {
                 diags_.error("E0912", v.range, who + ": route '" + v.route + "' is not defined in the scenario");
             }
-            if (v.btype == "TV" && !sc.trajectories.count(v.trajectory)) {
-                diags_.error("E0912", v.range, who + ": trajectory '" + v.trajectory + "' is not defined in the scenario");
+            if (v.btype == "TV") check_trajectory(sc, v.trajectory, v.range, who);
+            if (v.btype == "PV") check_path(sc, v.path, v.has_speed, v.range, who);
+        }
+        assign_pids(sc);
+        for (const auto& d : sc.pedestrians) {
+            const std::string who = "pedestrian " + std::to_string(d.pid) + (d.name.empty() ? std::string() : " ('" + d.name + "')");
+            if (d.btype == "TP") check_trajectory(sc, d.trajectory, d.range, who);
+            if (d.btype == "PP") check_path(sc, d.path, d.speed.has_value(), d.range, who);
+            if (d.btype == "SP") {
+                if (!d.route.empty() && !sc.routes.count(d.route)) {
+                    diags_.error("E0912", d.range, who + ": route '" + d.route + "' is not defined in the scenario");
+                } else if (d.route.empty() && !d.destination.empty() && !sc.locations.count(d.destination)) {
+                    diags_.error("E0912", d.range, who + ": location '" + d.destination + "' is not defined in the scenario")
+                        .notes.push_back({{}, "a destination is the name of a node tagged gs=location"});
+                }
             }
         }
         return sc;
@@ -310,7 +351,10 @@ private:
         const std::string who = "vehicle " + std::to_string(v.vid) + (v.name.empty() ? std::string() : " ('" + v.name + "')");
         v.btype = text(tags, "btype").value_or("SDV");
         for (char& c : v.btype) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-        if (auto s = tags.find("speed"); s != tags.end()) v.speed = number(s->second, who, "speed").value_or(0);
+        if (auto s = tags.find("speed"); s != tags.end()) {
+            v.speed = number(s->second, who, "speed").value_or(0);
+            v.has_speed = true;
+        }
         if (v.speed < 0) diags_.error("E0911", tags.at("speed").range, who + ": 'speed' must not be negative");
         if (auto l = tags.find("length"); l != tags.end()) v.length = positive(l->second, who, "length").value_or(4.5);
         if (auto w = tags.find("width"); w != tags.end()) v.width = positive(w->second, who, "width").value_or(1.8);
@@ -333,13 +377,139 @@ private:
             auto tr = text(tags, "trajectory");
             if (!tr) diags_.error("E0911", v.range, who + ": a trajectory vehicle (TV) needs a 'trajectory' tag");
             v.trajectory = tr.value_or("");
+        } else if (v.btype == "PV") {
+            read_path_agent(tags, v.range, who, "path vehicle (PV)", v.path, v.use_speed_profile);
         } else if (v.btype != "EV") {  // EV: an external vehicle, driven by a co-simulation client
             auto& d = diags_.error("E0913", tags.count("btype") ? tags.at("btype").range : v.range,
                                    who + ": vehicle type '" + v.btype + "' is not supported by sdv");
-            d.notes.push_back({{}, "supported: SDV (simulated driver), TV (trajectory vehicle) and EV (external vehicle)"});
+            d.notes.push_back({{}, "supported: SDV (simulated driver), TV (trajectory vehicle), PV (path vehicle) and EV "
+                                   "(external vehicle)"});
             return;
         }
         sc.vehicles.push_back(v);
+    }
+
+    // (An empty name: the missing tag is reported already.)
+    void check_trajectory(const GsScenario& sc, const std::string& name, diag::SourceRange at, const std::string& who) {
+        if (name.empty()) return;
+        auto t = sc.trajectories.find(name);
+        if (t == sc.trajectories.end()) {
+            diags_.error("E0912", at, who + ": trajectory '" + name + "' is not defined in the scenario");
+        } else if (t->second.size() < 2) {
+            diags_.error("E0911", at, who + ": trajectory '" + name + "' needs at least two nodes");
+        }
+    }
+
+    // A path (PV, PP): at least two distinct nodes, and a speed to start with, the first node's
+    // agentspeed or the agent's speed tag (the reference skips the agent without either).
+    void check_path(const GsScenario& sc, const std::string& name, bool has_speed, diag::SourceRange at,
+                    const std::string& who) {
+        if (name.empty()) return;
+        auto p = sc.paths.find(name);
+        if (p == sc.paths.end()) {
+            diags_.error("E0912", at, who + ": path '" + name + "' is not defined in the scenario");
+            return;
+        }
+        double length = 0;
+        for (size_t i = 1; i < p->second.size(); ++i) {
+            length += std::hypot(p->second[i].at.lat - p->second[i - 1].at.lat, p->second[i].at.lon - p->second[i - 1].at.lon);
+        }
+        if (p->second.size() < 2 || !(length > 0)) {
+            diags_.error("E0911", at, who + ": path '" + name + "' needs at least two distinct nodes");
+        }
+        if (!p->second.empty() && !p->second.front().speed && !has_speed) {
+            diags_.error("E0911", at, who + ": no speed to start with")
+                .notes.push_back({{}, "give the agent a 'speed' tag (km/h) or the first node of path '" + name +
+                                          "' an 'agentspeed' tag"});
+        }
+    }
+
+    // Pedestrians without a pid get the smallest ids not taken, in the order of the file (the
+    // reference's GSParser).
+    void assign_pids(GsScenario& sc) {
+        std::set<int> taken;
+        for (const auto& d : sc.pedestrians) {
+            if (d.pid > 0 && !taken.insert(d.pid).second) {
+                diags_.error("E0911", d.range, "pedestrian id " + std::to_string(d.pid) + " is used twice");
+            }
+        }
+        int next = 1;
+        for (auto& d : sc.pedestrians) {
+            if (d.pid > 0) continue;
+            while (taken.count(next)) ++next;
+            d.pid = next;
+            taken.insert(next);
+        }
+    }
+
+    void read_pedestrian(const pugi::xml_node& n, const Tags& tags, const GeoPoint& p, GsScenario& sc) {
+        GsPedestrian d;
+        d.at = p;
+        d.range = range(n);
+        d.name = text(tags, "name").value_or("");
+        const std::string who0 = "pedestrian" + (d.name.empty() ? std::string() : " '" + d.name + "'");
+        if (auto pid = tags.find("pid"); pid != tags.end()) {
+            const auto id = number(pid->second, who0, "pid");
+            if (!id || *id != std::floor(*id) || *id < 1 || *id > 1e6) {
+                if (id) diags_.error("E0911", pid->second.range, who0 + ": 'pid' must be a positive whole number");
+                return;
+            }
+            d.pid = static_cast<int>(*id);
+        }
+        const std::string who = d.pid == 0 ? who0
+                                           : "pedestrian " + std::to_string(d.pid) +
+                                                 (d.name.empty() ? std::string() : " ('" + d.name + "')");
+        d.btype = text(tags, "btype").value_or("PP");
+        for (char& c : d.btype) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+        if (d.btype != "SP" && d.btype != "TP" && d.btype != "PP") {
+            auto& e = diags_.error("E0913", tags.count("btype") ? tags.at("btype").range : d.range,
+                                   who + ": pedestrian type '" + d.btype + "' is not supported by sdv");
+            e.notes.push_back({{}, "supported: SP (simulated pedestrian), TP (trajectory pedestrian) and PP (path "
+                                   "pedestrian, without btype)"});
+            return;
+        }
+        if (auto l = tags.find("length"); l != tags.end()) d.length = positive(l->second, who, "length").value_or(d.length);
+        if (auto w = tags.find("width"); w != tags.end()) d.width = positive(w->second, who, "width").value_or(d.width);
+        d.has_speed = tags.count("speed") > 0;
+        if (d.btype == "SP") {
+            // The reference's SP walks to the last node of its route, else to its destination;
+            // its speed tag is not read (it walks at its desired speed).
+            d.route = text(tags, "route").value_or("");
+            d.destination = text(tags, "destination").value_or("");
+            if (d.route.empty() && d.destination.empty()) {
+                diags_.error("E0911", d.range, who + ": a simulated pedestrian (SP) needs a 'destination' or a 'route' tag");
+            }
+            d.btree = text(tags, "btree").value_or("");
+            d.btree_range = tags.count("btree") ? tags.at("btree").range : d.range;
+        } else if (d.btype == "TP") {
+            d.trajectory = text(tags, "trajectory").value_or("");
+            if (d.trajectory.empty()) diags_.error("E0911", d.range, who + ": a trajectory pedestrian (TP) needs a 'trajectory' tag");
+        } else {
+            read_path_agent(tags, d.range, who, "path pedestrian (PP, without btype)", d.path, d.use_speed_profile);
+            if (auto s = tags.find("speed"); s != tags.end()) {
+                d.speed = number(s->second, who, "speed");
+                if (d.speed && (*d.speed < 0 || *d.speed > 36)) {
+                    diags_.error("E0911", s->second.range, who + ": 'speed' must be 0 to 36 (km/h)");
+                    d.speed.reset();
+                }
+            }
+        }
+        sc.pedestrians.push_back(d);
+    }
+
+    // The tags of a path agent (PV, PP) besides its speed.
+    void read_path_agent(const Tags& tags, diag::SourceRange at, const std::string& who, const std::string& kind,
+                         std::string& path, bool& use_speed_profile) {
+        path = text(tags, "path").value_or("");
+        if (path.empty()) diags_.error("E0911", at, who + ": a " + kind + " needs a 'path' tag");
+        if (auto u = tags.find("usespeedprofile"); u != tags.end()) {
+            use_speed_profile = yes_no(u->second, who, "usespeedprofile").value_or(false);
+        }
+        if (auto c = tags.find("collision_vehicle_vid"); c != tags.end()) {
+            diags_.error("E0913", c->second.range, who + ": 'collision_vehicle_vid' is not supported by sdv")
+                .notes.push_back({{}, "sdv's path agents keep their path's speeds; none times its motion to meet a vehicle "
+                                      "(the reference's ensured collision)"});
+        }
     }
 
     void read_light(const pugi::xml_node& n, const Tags& tags, GsScenario& sc) {
@@ -490,11 +660,29 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
     std::vector<std::string> search = options.btree_path;
     search.push_back(fs::absolute(path, ec).parent_path().string());
     BtreeLibrary lib(search, sm, diags);
-    std::map<int, std::string> tree_of;
+    std::map<int, std::string> tree_of, ped_tree_of;
     for (const auto& v : sc->vehicles) {
         if (v.btype != "SDV") continue;
-        auto name = lib.add_named(v.btree, reader.btree_ranges_[v.vid]);
+        auto name = lib.add_named(v.btree, reader.btree_ranges_[v.vid], BtAgent::vehicle);
+        if (name && lib.agent(*name) == BtAgent::pedestrian) {
+            diags.error("E0911", reader.btree_ranges_[v.vid], "vehicle " + std::to_string(v.vid) + ": '" + v.btree +
+                                                                  "' is a pedestrian's behavior tree")
+                .notes.push_back({{}, "its maneuvers and conditions are the reference's pedestrian ones (btrees/sp)"});
+        }
         if (name) tree_of[v.vid] = *name;
+    }
+    for (const auto& d : sc->pedestrians) {
+        if (d.btype != "SP") continue;
+        // Without a btree tag, the reference's default pedestrian tree (ScenarioSetup.py).
+        const std::string tree_file = d.btree.empty() ? "walk.btree" : d.btree;
+        auto name = lib.add_named(tree_file, d.btree_range, BtAgent::pedestrian);
+        if (name && lib.agent(*name) == BtAgent::vehicle) {
+            diags.error("E0911", d.btree_range, "pedestrian " + std::to_string(d.pid) + ": '" + tree_file +
+                                                    "' is a vehicle's behavior tree")
+                .notes.push_back({{}, "its maneuvers and conditions are the reference's vehicle ones (btrees/sdv); "
+                                      "pedestrian trees are in btrees/sp"});
+        }
+        if (name) ped_tree_of[d.pid] = *name;
     }
     if (diags.error_count() > before) return std::nullopt;
 
@@ -534,11 +722,42 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
     std::ostringstream out;
     out << "# Converted by `sdv convert` from " << comment_text(fs::path(path).filename().string()) << " (GeoScenario "
         << "2.0): \"" << comment_text(sc->name) << "\".\n"
-        << "# Vehicles are named v<vid>, the ids the behavior trees use.\n\n";
+        << "# Vehicles are named v<vid>, the ids the behavior trees use.\n"
+        << (sc->pedestrians.empty() ? "" : "# Pedestrians are named p<pid>.\n") << "\n";
     out << lib.text();
     out << "map gs_map {\n    file " << quoted(relative_to(*map, options.out_dir)) << "\n    origin (" << fixed(sc->origin.lat, 11)
         << ", " << fixed(sc->origin.lon, 11) << ", " << fixed(sc->origin_alt, 3) << " m)\n}\n\n";
     out << "scenario " << scen << " {\n    road gs_map\n    timeout " << fixed(sc->timeout, 3) << " s\n";
+    // A path agent (PV, PP) moves along its path at the speed of its nodes (agentspeed, km/h),
+    // interpolated in the distance travelled, from the first node on (Actor.follow_path); a node
+    // without one keeps the speed before it; the first, the agent's speed tag.
+    auto write_path = [&](const std::vector<GsPathNode>& nodes, bool use_speed_profile) {
+        bool accel = false;
+        for (const auto& n : nodes) accel = accel || n.accel;
+        if (use_speed_profile && accel) {
+            out << "        # usespeedprofile: the speeds at the nodes (agentspeed) are interpolated along the path;\n"
+                << "        # agentacceleration and timetoacceleration are not read\n";
+        }
+        out << "        path {\n";
+        for (const auto& n : nodes) {
+            out << "            at " << xy(n.at);
+            if (n.speed) out << " speed " << fixed(*n.speed, 3) << " km/h";
+            out << "\n";
+        }
+        out << "        }\n";
+    };
+    // Time-stamped positions (TV, TP), linear between them, at rest after the last.
+    auto write_trajectory = [&](const std::vector<GsTnode>& tn) {
+        out << "        trajectory {\n";
+        for (size_t i = 0; i < tn.size(); ++i) {
+            const GeoPoint& next = i + 1 < tn.size() ? tn[i + 1].at : tn[i].at;
+            const GeoPoint& prev = i + 1 < tn.size() ? tn[i].at : (i > 0 ? tn[i - 1].at : tn[i].at);
+            out << "            " << fixed(tn[i].time, 3) << " s: at " << xy(tn[i].at) << " heading " << heading(prev, next);
+            if (tn[i].speed) out << " speed " << fixed(*tn[i].speed, 3) << " m/s";
+            out << "\n";
+        }
+        out << "        }\n";
+    };
     std::vector<std::string> goal_vehicles, all_sdv_goals;
     for (const auto& v : sc->vehicles) {
         const std::string name = "v" + std::to_string(v.vid);
@@ -561,6 +780,14 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
             out << "        tree " << tree_of.at(v.vid) << "()\n    }\n";
             all_sdv_goals.push_back(name);
             if (v.goal_ends_simulation) goal_vehicles.push_back(name);
+        } else if (v.btype == "PV") {
+            out << "    vehicle " << name << ": path {\n";
+            if (v.goal_ends_simulation) out << "        # goal_ends_simulation: the reference reads it for SDVs only\n";
+            if (v.has_speed) out << "        speed " << fixed(v.speed, 3) << " km/h\n";
+            if (v.length != 4.5) out << "        length " << fixed(v.length, 3) << " m\n";
+            if (v.width != 1.8) out << "        width " << fixed(v.width, 3) << " m\n";
+            write_path(sc->paths.at(v.path), v.use_speed_profile);
+            out << "    }\n";
         } else if (v.btype == "EV") {
             // Where it starts; from then on its co-simulation client sets its state.
             out << "    vehicle " << name << ": external {\n";
@@ -574,22 +801,39 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
             out << "    vehicle " << name << ": trajectory {\n";
             if (v.length != 4.5) out << "        length " << fixed(v.length, 3) << " m\n";
             if (v.width != 1.8) out << "        width " << fixed(v.width, 3) << " m\n";
-            out << "        trajectory {\n";
-            for (size_t i = 0; i < tn.size(); ++i) {
-                const GeoPoint& next = i + 1 < tn.size() ? tn[i + 1].at : tn[i].at;
-                const GeoPoint& prev = i + 1 < tn.size() ? tn[i].at : (i > 0 ? tn[i - 1].at : tn[i].at);
-                out << "            " << fixed(tn[i].time, 3) << " s: at " << xy(tn[i].at) << " heading " << heading(prev, next);
-                if (tn[i].speed) out << " speed " << fixed(*tn[i].speed, 3) << " m/s";
-                out << "\n";
-            }
-            out << "        }\n    }\n";
+            write_trajectory(tn);
+            out << "    }\n";
         }
+    }
+    // Pedestrians are p<pid>, as the reference names them in its outputs.
+    for (const auto& d : sc->pedestrians) {
+        const std::string name = "p" + std::to_string(d.pid);
+        out << "    # " << name << (d.name.empty() ? "" : " '" + comment_text(d.name) + "'") << "\n";
+        const std::string kind = d.btype == "SP" ? "sdp" : d.btype == "TP" ? "trajectory" : "path";
+        out << "    pedestrian " << name << ": " << kind << " {\n";
+        if (d.btype == "SP") {
+            // It starts at rest and walks to its goal: the last node of its route, else its
+            // destination (the nodes of the route before are not used by the reference either).
+            const GeoPoint& goal = d.route.empty() ? sc->locations.at(d.destination) : sc->routes.at(d.route).back();
+            if (d.has_speed) out << "        # its speed tag is not read: the reference's SP walks at its desired speed, 2 m/s\n";
+            out << "        start at " << xy(d.at) << "\n";
+            out << "        goal at " << xy(goal) << "\n";
+        } else if (d.btype == "PP" && d.speed) {
+            out << "        speed " << fixed(*d.speed, 3) << " km/h\n";
+        }
+        out << "        length " << fixed(d.length, 3) << " m\n";
+        out << "        width " << fixed(d.width, 3) << " m\n";
+        if (d.btype == "SP") out << "        tree " << ped_tree_of.at(d.pid) << "()\n";
+        if (d.btype == "TP") write_trajectory(sc->trajectories.at(d.trajectory));
+        if (d.btype == "PP") write_path(sc->paths.at(d.path), d.use_speed_profile);
+        out << "    }\n";
     }
     std::set<std::string> object_names;
     for (const auto& o : sc->objects) {
         std::string name = ident(o.name, "object");
-        // Vehicles are v<vid>: keep objects out of that name space.
-        const bool vehicle_like = name.size() > 1 && name[0] == 'v' && name.find_first_not_of("0123456789", 1) == std::string::npos;
+        // Vehicles are v<vid>, pedestrians p<pid>: keep objects out of those name spaces.
+        const bool vehicle_like = name.size() > 1 && (name[0] == 'v' || name[0] == 'p') &&
+                                  name.find_first_not_of("0123456789", 1) == std::string::npos;
         if (vehicle_like) name = "o_" + name;
         while (object_names.count(name)) name += "_";
         object_names.insert(name);

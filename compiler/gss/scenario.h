@@ -22,11 +22,14 @@ struct GeoPoint {
 struct GsVehicle {
     int vid = 0;
     std::string name;
-    std::string btype;  // SDV, TV, EV, ...
+    std::string btype;  // SDV, TV, PV, EV
     std::string btree;  // .btree file name (SDV)
     std::string route;  // route name (SDV)
     std::string trajectory;  // trajectory name (TV)
-    double speed = 0;
+    std::string path;        // path name (PV)
+    bool use_speed_profile = false;  // PV: usespeedprofile=yes
+    double speed = 0;        // SDV, EV: m/s as written; PV: km/h (the reference divides by 3.6)
+    bool has_speed = false;
     double length = 4.5, width = 1.8;
     bool goal_ends_simulation = false;
     GeoPoint at;
@@ -37,6 +40,32 @@ struct GsTnode {
     GeoPoint at;
     double time = 0;
     std::optional<double> speed;
+};
+
+// A node of a `path` way (PV, PP): where, and the reference's speed profile tags.
+struct GsPathNode {
+    GeoPoint at;
+    std::optional<double> speed;  // agentspeed, km/h
+    bool accel = false;           // agentacceleration or timetoacceleration given
+};
+
+// A pedestrian (gs=pedestrian): btype TP (trajectory), SP (simulated, with a behavior tree) or
+// PP (path; the reference's default).
+struct GsPedestrian {
+    int pid = 0;
+    std::string name;
+    std::string btype;        // TP, SP, PP
+    std::string btree;        // SP: .btree file name (default walk.btree)
+    std::string route;        // SP: its last node is the goal
+    std::string destination;  // SP: a location node, the goal (without route)
+    std::string trajectory;   // TP
+    std::string path;         // PP
+    std::optional<double> speed;  // PP: km/h (an SP's is not read: has_speed says it was given)
+    bool has_speed = false;
+    bool use_speed_profile = false;
+    double length = 0.6, width = 0.5;  // the reference's PEDESTRIAN_LENGTH, PEDESTRIAN_WIDTH
+    GeoPoint at;
+    diag::SourceRange range, btree_range;
 };
 
 struct GsLight {
@@ -63,8 +92,11 @@ struct GsScenario {
     double origin_alt = 0;
     bool has_origin = false;
     std::vector<GsVehicle> vehicles;
+    std::vector<GsPedestrian> pedestrians;
     std::map<std::string, std::vector<GeoPoint>> routes;
     std::map<std::string, std::vector<GsTnode>> trajectories;
+    std::map<std::string, std::vector<GsPathNode>> paths;
+    std::map<std::string, GeoPoint> locations;  // gs=location nodes, by name
     std::vector<GsLight> lights;
     std::vector<GsObject> objects;
 };

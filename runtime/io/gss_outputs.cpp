@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -47,15 +48,17 @@ std::string violations_json(const ir::Program& p, int scenario, const sim::RunRe
     const ir::Scenario& sc = p.scenarios.at(static_cast<size_t>(scenario));
     std::map<int, nlohmann::ordered_json> by_vid;
     std::map<int, size_t> index_of;
+    // The reference's violations are its SDVs' (simulated pedestrians are not vehicles there).
+    const auto is_sdv = [](const ir::Vehicle& v) { return v.kind == ir::VehicleKind::sdv && !v.pedestrian; };
     for (size_t i = 0; i < sc.vehicles.size(); ++i) {
-        if (sc.vehicles[i].kind != ir::VehicleKind::sdv) continue;
+        if (!is_sdv(sc.vehicles[i])) continue;
         by_vid[vid_of(sc.vehicles[i], i)] = nlohmann::ordered_json::object();
         index_of[static_cast<int>(i)] = i;
     }
     auto tick_of = [&](double t) { return std::to_string(static_cast<long long>(std::floor(t * sc.planning_rate + 1e-9))); };
     auto add = [&](int vehicle, double t, const std::string& cls, const std::string& message) {
         const auto& v = sc.vehicles.at(static_cast<size_t>(vehicle));
-        if (v.kind != ir::VehicleKind::sdv) return;
+        if (!is_sdv(v)) return;
         auto& entry = by_vid[vid_of(v, static_cast<size_t>(vehicle))];
         entry[tick_of(t)][cls] = {{"message", message}};
     };
@@ -76,9 +79,12 @@ std::string violations_json(const ir::Program& p, int scenario, const sim::RunRe
                     " overshot its goal (faster than 1 m/s when closest to it)");
         } else if (e.kind == "timeout") {
             for (size_t i = 0; i < sc.vehicles.size(); ++i) {
-                if (sc.vehicles[i].kind != ir::VehicleKind::sdv) continue;
-                char t[32];
-                std::snprintf(t, sizeof t, "%g", sc.timeout);
+                // Those that did not reach their goal (the message says so).
+                if (!is_sdv(sc.vehicles[i]) || (i < r.vehicles.size() && r.vehicles[i].reached_goal)) continue;
+                // The timeout as Python prints a float: "20.0", "20.5".
+                char t[40];
+                std::snprintf(t, sizeof t, "%.15g", sc.timeout);
+                if (std::string(t).find_first_of(".e") == std::string::npos) std::strcat(t, ".0");
                 add(static_cast<int>(i), e.time, "ScenarioTimeout",
                     "v" + std::to_string(vid_of(sc.vehicles[i], i)) + " did not reach its target location during the " +
                         t + " seconds allowed by this scenario.");

@@ -123,7 +123,10 @@ std::string plot_run(const std::string& dir, std::string& error) {
         for (const auto& c : road["crosswalks"]) area(c, "fill=\"url(#zebra)\" stroke=\"#999\"");
     }
     // Pedestrians' paths are dashed and labelled as pedestrians, here and in the speed plot.
-    auto label = [&](const std::string& name) { return pedestrian[name] ? name + " (pedestrian)" : name; };
+    // The name is the text's own (what scripts read), the kind a tspan after it.
+    auto label = [&](const std::string& name) {
+        return pedestrian[name] ? name + "<tspan font-style=\"italic\"> (pedestrian)</tspan>" : name;
+    };
     auto dash = [&](const std::string& name) { return pedestrian[name] ? " stroke-dasharray=\"5 3\"" : ""; };
     o << "</g>\n<g id=\"paths\" fill=\"none\" stroke-width=\"2\">\n";
     for (size_t i = 0; i < order.size(); ++i) {

@@ -4,6 +4,7 @@
 
 #include "runtime/catalog/catalog.h"
 #include "runtime/sim/agents.h"
+#include "runtime/sim/pedestrian.h"
 #include "runtime/sim/world.h"
 
 namespace sdv::io {
@@ -66,12 +67,36 @@ void Recorder::tick(const sim::World& w, int tick, double t) {
         if (!a.active) continue;
         *csv_ << fmt(t) << "," << tick << "," << a.v->name << "," << a.model->kind() << "," << fmt(a.x) << "," << fmt(a.y) << ","
              << fmt(a.yaw) << "," << fmt(a.speed) << "," << fmt(a.accel) << "," << fmt(a.lane_s) << "," << fmt(a.lane_d) << ","
-             << (a.centre_lane != sim::kNoLane ? w.net.lane(a.centre_lane).name : "") << "," << (a.driver ? a.driver->maneuver_name : "") << "\n";
+             << (a.centre_lane != sim::kNoLane ? w.net.lane(a.centre_lane).name : "") << ","
+             << (a.driver ? a.driver->maneuver_name : a.walker ? a.walker->maneuver_name : "") << "\n";
     }
 }
 
 void Recorder::plan(const sim::World& w, const sim::Agent& a) {
     if (a.driver && a.driver->trace) *decisions_ << decision_line(w, a, *a.driver->trace);
+    if (a.walker && w.options.trace) *decisions_ << walker_line(w, a);
+}
+
+// A pedestrian's tree tick: the nodes visited, the maneuver in force and the intent it set
+// (its phase with its target crosswalk, the desired speed, where it walks).
+std::string walker_line(const sim::World& w, const sim::Agent& a) {
+    static const char* kPhases[] = {"none", "approaching", "crossing", "back", "done"};
+    const sim::Walker& k = *a.walker;
+    const auto& nodes = k.tree->instance().nodes;
+    std::ostringstream o;
+    o << "{\"time\":" << fmt(k.cycle_time) << ",\"vehicle\":\"" << a.v->name << "\",\"plan\":" << k.cycles << ",\"nodes\":[";
+    for (size_t i = 0; i < k.visits.size(); ++i) {
+        const auto& node = nodes[static_cast<size_t>(k.visits[i].node)];
+        o << (i ? "," : "") << "{\"node\":\"" << node.path << "\",\"status\":\"" << bt::to_string(k.visits[i].status) << "\"}";
+    }
+    const char* kind = k.maneuver >= 0 ? catalog::maneuvers()[static_cast<size_t>(nodes[static_cast<size_t>(k.maneuver)].leaf)].name.c_str() : "none";
+    const sim::Intent in = sim::intent(w, a);
+    o << "],\"maneuver\":\"" << k.maneuver_name << "\",\"kind\":\"" << kind << "\",\"walker\":{\"phase\":\""
+      << kPhases[static_cast<int>(k.phase)] << "\",\"crosswalk\":";
+    if (k.crosswalk >= 0) o << "\"" << w.net.crosswalks[static_cast<size_t>(k.crosswalk)].name << "\"";
+    else o << "null";
+    o << ",\"speed\":" << fmt(in.speed) << ",\"target\":[" << fmt(in.target.x, 2) << "," << fmt(in.target.y, 2) << "]}}\n";
+    return o.str();
 }
 
 Recording Recorder::take() { return {csv_memory_.str(), decisions_memory_.str(), road_}; }

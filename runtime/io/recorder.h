@@ -59,5 +59,7 @@ std::string road_json(const sim::World& world);
 
 // One planning cycle as a line of decisions.jsonl.
 std::string decision_line(const sim::World& world, const sim::Agent& agent, const sim::PlanTrace& trace);
+// One line of decisions.jsonl for a pedestrian's tree tick (its nodes, maneuver and intent).
+std::string walker_line(const sim::World& world, const sim::Agent& agent);
 
 }  // namespace sdv::io

@@ -169,7 +169,10 @@ bool Simulation::step() {
     }
     // The pedestrians' trees due at this tick, over the same snapshot (a few µs each, in order).
     for (Agent& a : w.agents) {
-        if (a.walker && a.active && !a.crashed && (tick + a.index) % st.period == 0) walk_cycle(w, a, t);
+        if (a.walker && a.active && !a.crashed && (tick + a.index) % st.period == 0) {
+            walk_cycle(w, a, t);
+            if (st.observer) st.observer->plan(w, a);
+        }
     }
     // Then the next tick.
     advance_to(tick + 1);

@@ -58,6 +58,8 @@ struct Yield {
     double stop_s = 0;
 };
 std::optional<Yield> pedestrian_ahead(const Leaves& l, double distance);
+// The room a driver's trajectory leaves round a pedestrian's footprint, on every side.
+inline constexpr double kPedestrianMargin = 0.5;  // m
 // How far ahead `stop(at = pedestrian)` looks for the pedestrian of `pedestrian_crossing`.
 inline constexpr double kPedestrianLookAhead = 300.0;  // m
 

@@ -257,8 +257,10 @@ private:
 void walk_cycle(const World& w, Agent& a, double t) {
     Walker& k = *a.walker;
     ++k.cycles;
+    k.cycle_time = t;
     PedestrianLeaves leaves(w, a, t);
-    k.tree->tick(leaves);
+    k.visits.clear();
+    k.tree->tick(leaves, w.options.trace ? &k.visits : nullptr);
     k.maneuver = k.tree->selected();
     k.maneuver_name = k.maneuver >= 0 ? k.tree->instance().nodes[static_cast<size_t>(k.maneuver)].name : "none";
 }

@@ -34,8 +34,11 @@ void make_request(const Leaves& l, int32_t sel, PlanInputs& out) {
     req = planner::PlanRequest{};
     out.obstacles.clear();
     for (const Seen& s : l.view.seen) {
-        out.obstacles.push_back({s.index, {s.f.s, s.f.s_d, 0, s.f.d, s.f.d_d, 0}, s.length, s.width, w.snapshot[static_cast<size_t>(s.index)].is_static,
-                                 s.d_min, s.d_max});
+        // A driver passes a pedestrian with room to spare: its footprint, grown by a margin on
+        // every side, is what a trajectory must not touch.
+        const double grow = w.snapshot[static_cast<size_t>(s.index)].pedestrian ? 2 * kPedestrianMargin : 0.0;
+        out.obstacles.push_back({s.index, {s.f.s, s.f.s_d, 0, s.f.d, s.f.d_d, 0}, s.length + grow, s.width + grow,
+                                 w.snapshot[static_cast<size_t>(s.index)].is_static, s.d_min, s.d_max});
     }
     const double lw = a.lane != kNoLane ? w.net.lane(a.lane).width : 3.5;
     req.current_lane = {0, 0.5 * lw, -0.5 * lw};

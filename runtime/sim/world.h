@@ -129,6 +129,8 @@ struct Walker {
     int32_t maneuver = -1;
     std::string maneuver_name = "none";
     uint32_t cycles = 0;  // tree ticks so far
+    double cycle_time = 0;  // of the last tick
+    std::vector<bt::Visit> visits;  // of the last tick (kept only with RunOptions::trace)
     std::map<int32_t, std::pair<double, uint32_t>> waits;  // `wait` timers, as Driver's
 };
 

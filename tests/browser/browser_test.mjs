@@ -1,22 +1,26 @@
 #!/usr/bin/env node
 // Browser test of an `sdv view` report.
 //
-//   node browser_test.mjs report.html screenshot.png
+//   node browser_test.mjs report.html screenshot.png [--require=pedestrian,crosswalk,walkway]
 //
 // Opens the report in headless Chromium (/usr/bin/chromium, or $CHROMIUM) through
 // playwright-core, drives the real UI (time slider, play button, keyboard, map click,
 // timeline, charts), reads the state back through window.sdvView, checks the metrics
 // tables, the expectations (every part of a compound one, windows) and the charts' extremes
 // against the summary.json embedded in the page, prints one line per check and takes a
-// full-page screenshot. Exit status 0 = all checks passed, 1 = failure.
+// full-page screenshot. Pedestrians (discs with a heading tick and a label), crosswalks (zebra
+// stripes, tinted by their pedestrian signal) and walkways are checked on the map's pixels
+// whenever the run has them; --require makes their absence a failure.
+// Exit status 0 = all checks passed, 1 = failure.
 import { chromium } from 'playwright-core';
 import { pathToFileURL } from 'node:url';
 import path from 'node:path';
 import fs from 'node:fs';
 
-const [file, shot] = process.argv.slice(2);
-if (!file || !shot) {
-  console.error('usage: node browser_test.mjs report.html screenshot.png');
+const [file, shot, ...opts] = process.argv.slice(2);
+const required = new Set(opts.filter((o) => o.startsWith('--require=')).flatMap((o) => o.slice(10).split(',')).filter(Boolean));
+if (!file || !shot || opts.some((o) => !o.startsWith('--require='))) {
+  console.error('usage: node browser_test.mjs report.html screenshot.png [--require=pedestrian,crosswalk,walkway]');
   process.exit(1);
 }
 if (!fs.existsSync(file)) {
@@ -355,12 +359,168 @@ async function run(browser) {
   }
   noErrors('metrics and expectations');
 
+  await checkPedestrianAreas(page, state);
+  await checkPedestrians(page, state);
+  noErrors('pedestrians');
+
   // ---- screenshot --------------------------------------------------------------------
   await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
   await page.screenshot({ path: shot, fullPage: true });
   pass(`screenshot written to ${shot}`);
   noErrors('end');
   pass('no console errors, page errors or network requests');
+}
+
+// ---- pedestrians and pedestrian areas, checked on the map's pixels -----------------------
+const frames = (page) => page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+const hexRgb = (h) => { const n = parseInt(String(h).slice(1), 16); return [n >> 16 & 255, n >> 8 & 255, n & 255]; };
+const dist3 = (a, b) => Math.abs(a[0] - b[0]) + Math.abs(a[1] - b[1]) + Math.abs(a[2] - b[2]);
+const mean = (c) => (c[0] + c[1] + c[2]) / 3;
+const lenOf = (P) => { let s = 0; for (let i = 1; i < P.length; i++) s += Math.hypot(P[i][0] - P[i - 1][0], P[i][1] - P[i - 1][1]); return s; };
+function along(P, f) {
+  let want = Math.min(1, Math.max(0, f)) * lenOf(P);
+  for (let i = 1; i < P.length; i++) {
+    const seg = Math.hypot(P[i][0] - P[i - 1][0], P[i][1] - P[i - 1][1]);
+    if (want <= seg || i === P.length - 1) { const u = seg > 0 ? Math.min(1, want / seg) : 0; return [P[i - 1][0] + u * (P[i][0] - P[i - 1][0]), P[i - 1][1] + u * (P[i][1] - P[i - 1][1])]; }
+    want -= seg;
+  }
+  return P[0];
+}
+/** The run's agents as embedded (world positions by tick). */
+const rawAgents = (page) => page.evaluate(() => JSON.parse(document.getElementById('sdv-data').textContent).vehicles
+  .map((v) => ({ name: v.name, kind: v.kind, length: v.length, width: v.width, first: v.first, x: v.x, y: v.y })));
+const positionAt = (v, tick) => { const k = tick - v.first; return k >= 0 && k < v.x.length && v.x[k] != null ? [v.x[k], v.y[k]] : null; };
+/** The first tick in `ticks` at which no agent but `except` is within `radius` m of p (or null). */
+function clearTick(agents, ticks, p, radius, except) {
+  return ticks.find((t) => agents.every((v) => { const q = v === except ? null : positionAt(v, t); return !q || Math.hypot(q[0] - p[0], q[1] - p[1]) > radius; })) ?? null;
+}
+async function lookAt(page, tick, cx, cy, scale) {
+  await page.evaluate(([t, o]) => { window.sdvView.setTick(t); window.sdvView.setView(o); }, [tick, { cx, cy, scale }]);
+  await frames(page);
+}
+const worldPixels = (page, pts) => page.evaluate((ps) => window.sdvView.pixels(ps.map((p) => { const c = window.sdvView.toClient(p[0], p[1]); return [c.x, c.y]; })), pts);
+/** The tint of a signal over white stripes: which channel dominates. */
+function tintOk(signal, c) {
+  if (signal === 'red') return c[0] > c[1] + 30 && c[0] > c[2] + 30;
+  if (signal === 'green') return c[1] > c[0] + 20 && c[1] > c[2] + 15;
+  if (signal === 'yellow' || signal === 'amber') return c[0] > c[2] + 50 && c[1] > c[2] + 30;
+  return true;
+}
+
+async function checkPedestrianAreas(page, state) {
+  const road = await page.evaluate(() => { const r = JSON.parse(document.getElementById('sdv-data').textContent).road || {}; return { crosswalks: r.crosswalks || [], walkways: r.walkways || [] }; });
+  if (required.has('crosswalk') && !road.crosswalks.length) fail('road.json of this run has no crosswalks (--require=crosswalk)');
+  if (required.has('walkway') && !road.walkways.length) fail('road.json of this run has no walkways (--require=walkway)');
+  if (!road.crosswalks.length && !road.walkways.length) return;
+  const cws = await page.evaluate(() => window.sdvView.crosswalks()), colors = await page.evaluate(() => window.sdvView.colors());
+  if (cws.length !== road.crosswalks.length) fail(`viewer has ${cws.length} crosswalks, road.json ${road.crosswalks.length}`);
+  const agents = await rawAgents(page), st0 = await state(), N = st0.ticks, view = await page.evaluate(() => window.sdvView.view());
+  const ticks = Array.from({ length: 41 }, (_, i) => Math.round(i * (N - 1) / 40));
+  for (const c of cws.slice(0, 4)) {
+    const C = c.centre.length >= 2 ? c.centre : c.left.map((p, i) => along(c.right, i / (c.left.length - 1)).map((q, j) => (q + p[j]) / 2));
+    const len = lenOf(C), mid = along(C, 0.5);
+    const tick = clearTick(agents, ticks, mid, len / 2 + 6, null) ?? 0;
+    const scale = Math.min(40, Math.max(6, 0.6 * Math.min(view.width, view.height) / Math.max(len, c.width || 3)));
+    await lookAt(page, tick, mid[0], mid[1], scale);
+    const n = Math.max(8, Math.ceil(len / 0.08)), pts = Array.from({ length: n + 1 }, (_, i) => along(C, 0.04 + 0.92 * i / n));
+    const px = (await worldPixels(page, pts)).filter(Boolean);
+    // Stripes and gaps by brightness, between the 20th and 80th percentiles (a light's marker
+    // or a label on the crosswalk is a few dark samples, not a level).
+    const m = px.map(mean), sorted = m.slice().sort((a, b) => a - b);
+    const lo = sorted[Math.floor(0.2 * (sorted.length - 1))], hi = sorted[Math.ceil(0.8 * (sorted.length - 1))], th = (hi + lo) / 2;
+    if (!(hi - lo > 25)) fail(`crosswalk ${c.name}: no stripes along its centre line at ${scale.toFixed(1)} px/m (brightness ${lo.toFixed(0)}–${hi.toFixed(0)})`);
+    let changes = 0;
+    for (let i = 1; i < m.length; i++) if ((m[i] > th) !== (m[i - 1] > th)) changes++;
+    const stripes = Math.max(1, Math.round((lenOf(c.left) + lenOf(c.right)) / 2));
+    if (changes < Math.max(2, 1.5 * stripes * 0.92 - 2)) fail(`crosswalk ${c.name}: ${changes} stripe edges along its ${len.toFixed(1)} m centre line, expected about ${2 * stripes}`);
+    const bright = px.filter((p, i) => m[i] > th), avg = [0, 1, 2].map((j) => bright.reduce((a, p) => a + p[j], 0) / bright.length).map(Math.round);
+    const sig = (await page.evaluate(() => window.sdvView.crosswalks()))[cws.indexOf(c)].signal;
+    if (!sig) {
+      if (!(Math.min(...avg) > 225)) fail(`crosswalk ${c.name} (no signal): stripes are not white: rgb(${avg})`);
+      pass(`crosswalk ${c.name}: ${changes} stripe edges (≈ ${stripes} white stripes rgb(${avg})) across ${len.toFixed(1)} m at t=${(await state()).time}`);
+      continue;
+    }
+    if (!tintOk(sig, avg)) fail(`crosswalk ${c.name}: pedestrian signal ${sig} but its stripes are rgb(${avg})`);
+    // Another time when the signal differs: the tint follows it.
+    let other = null;
+    for (const t of ticks) {
+      await page.evaluate((k) => window.sdvView.setTick(k), t);
+      const s2 = (await page.evaluate(() => window.sdvView.crosswalks()))[cws.indexOf(c)].signal;
+      if (s2 && s2 !== sig) { other = { t, s2 }; break; }
+    }
+    let also = '';
+    if (other) {
+      await frames(page);
+      const px2 = (await worldPixels(page, pts)).filter(Boolean), m2 = px2.map(mean), s2 = m2.slice().sort((a, b) => a - b);
+      const th2 = (s2[Math.floor(0.2 * (s2.length - 1))] + s2[Math.ceil(0.8 * (s2.length - 1))]) / 2;
+      const b2 = px2.filter((p, i) => m2[i] > th2), avg2 = [0, 1, 2].map((j) => b2.reduce((a, p) => a + p[j], 0) / b2.length).map(Math.round);
+      if (!tintOk(other.s2, avg2)) fail(`crosswalk ${c.name}: pedestrian signal ${other.s2} at tick ${other.t} but its stripes are rgb(${avg2})`);
+      also = `; at tick ${other.t} '${other.s2}' → rgb(${avg2})`;
+    }
+    pass(`crosswalk ${c.name} (signal ${c.light}${c.inverse ? ', inverse' : ''}): ${changes} stripe edges; '${sig}' → stripes rgb(${avg})${also}`);
+  }
+  if (road.walkways.length) {
+    const walks = await page.evaluate(() => window.sdvView.walkways()), want = hexRgb(colors.walkFill);
+    let seen = 0, tried = 0;
+    for (const w of walks.slice(0, 12)) {
+      const a = along(w.left, 0.5), b = along(w.right, 0.5), p = [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2];
+      const tick = clearTick(agents, ticks, p, 8, null);
+      if (tick === null) continue;
+      tried++;
+      await lookAt(page, tick, p[0], p[1], 12);
+      const [c] = await worldPixels(page, [p]);
+      if (c && dist3(c, want) <= 12) seen++;
+    }
+    const drawn = (await state()).drawn;
+    if (!seen || !(drawn.walkways >= 1)) fail(`walkways: none of ${tried} sampled walkways shows the walkway fill ${colors.walkFill} at its middle`);
+    pass(`walkways: ${seen} of ${tried} sampled walkways filled ${colors.walkFill} between their bounds (${walks.length} in road.json)`);
+  }
+  await page.evaluate(() => window.sdvView.fit());
+  const st = await state();
+  if (road.crosswalks.length && !(st.drawn.crosswalks >= 1)) fail('no crosswalk drawn in the fitted view');
+}
+
+async function checkPedestrians(page, state) {
+  const agents = await rawAgents(page), peds = agents.filter((v) => v.kind === 'pedestrian');
+  if (!peds.length) { if (required.has('pedestrian')) fail('the run has no pedestrians (--require=pedestrian)'); return; }
+  const options = await page.$$eval('#vehSelect option', (os) => os.map((o) => o.textContent));
+  for (const p of peds) if (!options.includes(`${p.name} (pedestrian)`)) fail(`agent list has no '${p.name} (pedestrian)': ${options.join(', ')}`);
+  const cws = await page.evaluate(() => window.sdvView.crosswalks());
+  const ends = cws.flatMap((c) => [c.centre[0], c.centre[c.centre.length - 1]]).filter(Boolean);
+  for (const p of peds.slice(0, 2)) {
+    // A moment when nothing else is near it (another agent or a crosswalk's label would cover it).
+    let tick = null;
+    for (let i = 1; i < 20 && tick === null; i++) {
+      const t = p.first + Math.floor(i * (p.x.length - 1) / 20), q = positionAt(p, t);
+      if (q && clearTick(agents, [t], q, 4, p) !== null && ends.every((e) => Math.hypot(e[0] - q[0], e[1] - q[1]) > 4)) tick = t;
+    }
+    if (tick === null) fail(`pedestrian ${p.name}: never clear of other agents to look at`);
+    const q = positionAt(p, tick), radius = Math.max(p.length, p.width) / 2, scale = 10 / radius;
+    await lookAt(page, tick, q[0], q[1], scale);
+    const sp = (await page.evaluate(() => window.sdvView.screenPositions())).find((e) => e.name === p.name);
+    if (!sp || sp.kind !== 'pedestrian' || sp.shape !== 'disc') fail(`pedestrian ${p.name} is not drawn as a disc: ${JSON.stringify(sp)}`);
+    if (Math.abs(sp.r - radius * scale) > 0.5) fail(`pedestrian ${p.name}: disc of ${sp.r} px, expected max(length, width)/2 = ${radius} m = ${radius * scale} px`);
+    const col = hexRgb(sp.color), r = sp.r, dir = (a) => [Math.cos(sp.yaw + a), -Math.sin(sp.yaw + a)];
+    const at = (a, d) => { const [dx, dy] = dir(a); return [sp.x + dx * d, sp.y + dy * d]; };
+    const inside = [[sp.x, sp.y], at(Math.PI / 2, 0.7 * r), at(Math.PI, 0.7 * r), at(-Math.PI / 2, 0.7 * r)];
+    // Corners of the disc's square away from the heading tick: outside a disc, inside a box.
+    const corners = [3, 5].map((k) => at(k * Math.PI / 4, 1.3 * r));
+    const tickPt = at(0, r + 0.5 * Math.max(4, 0.7 * r)), behind = at(Math.PI, r + 0.5 * Math.max(4, 0.7 * r));
+    const px = await page.evaluate((ps) => window.sdvView.pixels(ps), [...inside, ...corners, tickPt, behind]);
+    const bad = inside.map((_, i) => px[i]).filter((c) => !c || dist3(c, col) > 45);
+    if (bad.length) fail(`pedestrian ${p.name}: disc pixels ${JSON.stringify(px.slice(0, 4))} are not its colour ${sp.color}`);
+    if (corners.some((_, i) => !px[4 + i] || dist3(px[4 + i], col) <= 45)) fail(`pedestrian ${p.name}: drawn as a box, not a disc (corner pixels ${JSON.stringify(px.slice(4, 6))})`);
+    if (!(mean(px[6]) < mean(px[7]) - 30)) fail(`pedestrian ${p.name}: no heading tick (pixel ahead ${px[6]}, behind ${px[7]})`);
+    const st = await state();
+    if (!(st.drawn.pedestrians >= 1) || !st.drawn.labels.some((l) => l === p.name || l.startsWith(p.name + ' · '))) fail(`pedestrian ${p.name}: no label among ${JSON.stringify(st.drawn.labels)}`);
+    await page.evaluate((n) => window.sdvView.select(n), p.name);
+    await frames(page);
+    const info = await page.locator('#vehInfo').textContent();
+    if (!info.includes('pedestrian') || !info.includes('⌀')) fail(`side panel of ${p.name} does not show its kind and disc: '${info}'`);
+    pass(`pedestrian ${p.name} at t=${st.time}: disc ${(2 * r).toFixed(1)} px (⌀ ${2 * radius} m) in rgb(${px[0]}), heading tick, label, ` +
+      `listed as '${p.name} (pedestrian)', side panel '${info.slice(0, 40)}…'`);
+  }
+  await page.evaluate(() => window.sdvView.fit());
 }
 
 const browser = await chromium.launch({
