@@ -236,6 +236,7 @@ private:
     int32_t expand_vehicle_tree(const ast::TreeRef& ref, ScenarioCtx& ctx, ir::Program& program);
     void check_crosswalks(const std::vector<ast::CrosswalkDecl>& xs, RoadSym& sym, bool junction);
     void check_tree_agent(const ast::TreeRef& ref, const ir::Vehicle& v, const ir::Program& program);
+    std::optional<double> check_speed(const ast::Value& v, const std::string& what);
     void check_path(const ast::VehicleDecl& v, ir::Vehicle& out, ScenarioCtx& ctx, const std::string& what);
     Env bind(const TreeSym& t, const std::vector<ast::Arg>& args, const Env* caller_env,
              const Env& caller);

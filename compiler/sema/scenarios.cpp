@@ -303,16 +303,7 @@ ir::Vehicle Checker::check_vehicle(const ast::VehicleDecl& v, ScenarioCtx& ctx,
                     last = wp.time;
                 }
                 wp.position = check_position(w.position, ctx, "a waypoint of " + what);
-                if (w.speed) {
-                    ParamDef sdef;
-                    sdef.dim = Dim::speed;
-                    sdef.min = 0;
-                    sdef.max = 100;
-                    Eval sp = eval(*w.speed, nullptr, {ParamType::quantity, Dim::speed}, "the waypoint speed", &sdef);
-                    if (sp.kind == Eval::Kind::number && check_range(sp, sdef, "the waypoint speed")) {
-                        wp.speed = sp.num.value;
-                    }
-                }
+                if (w.speed) wp.speed = check_speed(*w.speed, "the waypoint speed").value_or(wp.speed);
                 out.trajectory.push_back(wp);
             }
             if (v.starts.empty()) out.start = out.trajectory.front().position;
@@ -350,6 +341,17 @@ void Checker::check_tree_agent(const ast::TreeRef& ref, const ir::Vehicle& v, co
     }
 }
 
+// A waypoint's or path point's speed (0 to 100 m/s); nullopt when it is not one (reported).
+std::optional<double> Checker::check_speed(const ast::Value& v, const std::string& what) {
+    ParamDef def;
+    def.dim = Dim::speed;
+    def.min = 0;
+    def.max = 100;
+    Eval sp = eval(v, nullptr, {ParamType::quantity, Dim::speed}, what, &def);
+    if (sp.kind == Eval::Kind::number && check_range(sp, def, what)) return sp.num.value;
+    return std::nullopt;
+}
+
 // The points of a path, each with its speed from there on (speeds left out: the previous one's).
 void Checker::check_path(const ast::VehicleDecl& v, ir::Vehicle& out, ScenarioCtx& ctx, const std::string& what) {
     if (v.paths.empty() || v.paths[0].size() < 2) {
@@ -361,14 +363,7 @@ void Checker::check_path(const ast::VehicleDecl& v, ir::Vehicle& out, ScenarioCt
         ir::Waypoint wp;
         wp.time = -1;
         wp.position = check_position(pp.position, ctx, "a point of the path of " + what);
-        if (pp.speed) {
-            ParamDef sdef;
-            sdef.dim = Dim::speed;
-            sdef.min = 0;
-            sdef.max = 100;
-            Eval sp = eval(*pp.speed, nullptr, {ParamType::quantity, Dim::speed}, "the path speed", &sdef);
-            if (sp.kind == Eval::Kind::number && check_range(sp, sdef, "the path speed")) wp.speed = sp.num.value;
-        }
+        if (pp.speed) wp.speed = check_speed(*pp.speed, "the path speed").value_or(wp.speed);
         out.trajectory.push_back(wp);
     }
     if (v.starts.empty()) out.start = out.trajectory.front().position;

@@ -177,6 +177,9 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
         for (const int jj : near) {
             const auto j = static_cast<size_t>(jj);
             if (!agents[j].active) continue;
+            // Two pedestrians never collide (below): their pair is measured only when an
+            // expectation names it, which keeps crowds cheap.
+            if (agents[i].v->pedestrian && agents[j].v->pedestrian && std::find(named.begin(), named.end(), jj) == named.end()) continue;
             const auto found = index_.find(static_cast<uint64_t>(i) * n_ + j);
             const bool known = found != index_.end();
             const bool was_touching = known && touching_tick_[found->second] == tick - 1;

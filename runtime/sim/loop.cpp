@@ -33,6 +33,10 @@ void take_snapshot(World& w, double t) {
                          a.v->kind == ir::VehicleKind::static_object, a.v->pedestrian, a.stopped_since, a.driver ? a.driver->maneuver : -1, a.active, a.lane_s,
                          a.driver ? a.driver->target_lane : kNoLane, a.driver ? a.driver->lane_move_since : 0,
                          lateral_to_go(a, t)};
+        if (a.walker) {
+            w.snapshot[i].intent = true;
+            w.snapshot[i].crossing_at = a.walker->phase == Walker::Phase::approaching ? a.walker->crosswalk : -1;
+        }
     }
     thread_local std::vector<double> xs, ys;
     thread_local std::vector<char> on;

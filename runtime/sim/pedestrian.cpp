@@ -17,20 +17,20 @@ using road::Vec2;
 constexpr double kNeighbourRadius = 12.0;  // m
 // Without a goal a pedestrian walks straight ahead: toward a point this far along its heading.
 constexpr double kAhead = 1000.0;  // m
+// Slower than this a pedestrian shuffles in place (jostled in a crowd): it keeps facing where it
+// faced.
+constexpr double kTurnSpeed = 0.3;  // m/s
+constexpr double kRelocate = 1.0;  // m walked between two searches of the lane it is by
 
-// Whether segments ab and cd intersect (touching counts).
-bool segments_cross(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
-    const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a);
-    const double d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
-    return ((d1 <= 0 && d2 >= 0) || (d1 >= 0 && d2 <= 0)) && ((d3 <= 0 && d4 >= 0) || (d3 >= 0 && d4 <= 0));
-}
-
-// Whether the straight way from p to g crosses the centre line of `lane`.
-bool way_crosses(const road::Lane& lane, Vec2 p, Vec2 g) {
-    for (size_t i = 0; i + 1 < lane.centre.size(); ++i) {
-        if (segments_cross(p, g, lane.centre[i], lane.centre[i + 1])) return true;
-    }
-    return false;
+// Whether the way from p to g crosses a lane where a crosswalk crosses it: p and g on either
+// side of the lane's tangent at the crossing (O(1): the lane is a line at the scale of a street
+// crossing).
+bool way_crosses(const road::RoadNetwork& net, const road::Crosswalk::Crossing& x, Vec2 p, Vec2 g) {
+    const auto& ref = net.reference(x.lane);
+    const double s = std::clamp(x.s, 0.0, ref.length());
+    const Vec2 q = ref.point(s);
+    const Vec2 t{std::cos(ref.heading(s)), std::sin(ref.heading(s))};
+    return cross(t, p - q) * cross(t, g - q) < 0;
 }
 
 class WalkerModel final : public AgentModel {
@@ -39,12 +39,22 @@ public:
     void advance(const World& w, Agent& a, double t, int tick) const override {
         (void)t;
         if (tick > 0) move(w, a);
-        const auto found = w.net.locate({a.x, a.y});
-        a.lane = found.lane;
+        // The lane it is by: searched over the whole network once it has moved kRelocate from
+        // where it was last searched (a walker's lane changes slowly), else projected on it.
+        road::RoadNetwork::Location at{a.lane, 0, 0};
+        if (a.lane == kNoLane || !(std::hypot(a.x - a.walker->located_x, a.y - a.walker->located_y) < kRelocate)) {
+            at = w.net.locate({a.x, a.y});
+            a.walker->located_x = a.x;
+            a.walker->located_y = a.y;
+        } else {
+            const auto f = w.net.reference(a.lane).project({a.x, a.y}, a.lane_s);
+            at = {a.lane, f.s, f.d};
+        }
+        a.lane = at.lane;
         if (a.lane != kNoLane) {
-            a.lane_s = found.s;
-            a.lane_d = found.d;
-            a.centre_lane = found.s >= 0 && found.s <= w.net.lane(a.lane).length ? centre_lane(w.net, a.lane, found.d) : kNoLane;
+            a.lane_s = at.s;
+            a.lane_d = at.d;
+            a.centre_lane = at.s >= 0 && at.s <= w.net.lane(a.lane).length ? centre_lane(w.net, a.lane, at.d) : kNoLane;
         }
     }
 
@@ -83,7 +93,7 @@ private:
         a.ax = f.x;
         a.ay = f.y;
         a.speed = norm(n.v);
-        if (a.speed > 0.05) a.yaw = std::atan2(n.v.y, n.v.x);
+        if (a.speed > kTurnSpeed) a.yaw = std::atan2(n.v.y, n.v.x);
         a.accel = (a.speed - old_speed) / w.dt;
         // The far end of the crosswalk reached: the crossing is done; back at the entrance
         // (turn_back): approaching it again.
@@ -129,9 +139,8 @@ std::vector<WayCrosswalk> crosswalks_on_way(const World& w, Vec2 p, Vec2 goal, d
     for (size_t i = 0; i < w.net.crosswalks.size(); ++i) {
         const auto& c = w.net.crosswalks[i];
         if (c.centre.size() < 2) continue;
-        const bool needed = std::any_of(c.crossings.begin(), c.crossings.end(), [&](const road::Crosswalk::Crossing& x) {
-            return way_crosses(w.net.lane(x.lane), p, goal);
-        });
+        const bool needed = std::any_of(c.crossings.begin(), c.crossings.end(),
+                                        [&](const road::Crosswalk::Crossing& x) { return way_crosses(w.net, x, p, goal); });
         if (!needed) continue;
         const int entrance = distance(p, crosswalk_end(c, 0)) <= distance(p, crosswalk_end(c, 1)) ? 0 : 1;
         const double to = distance(p, crosswalk_end(c, entrance));

@@ -77,13 +77,15 @@ std::optional<Yield> pedestrian_ahead(const Leaves& l, double distance_limit) {
                     const bool toward = s.f.d * s.f.d_d < -0.05;
                     if (!near && !toward) continue;
                     if (at.s < 0 || at.s > c.length) {
-                        // At an end: walking into the crosswalk, or standing there facing it
-                        // (waiting to cross; one who has crossed faces away from it).
+                        // At an end: walking into the crosswalk, or standing there waiting to
+                        // cross (a simulated pedestrian's intent shows; one that follows
+                        // waypoints waits when it faces the crosswalk, one who has crossed faces
+                        // away from it).
                         Vec2 into = at.s < 0 ? c.centre[1] - c.centre[0] : c.centre[c.centre.size() - 2] - c.centre.back();
                         into = (1.0 / std::max(norm(into), 1e-9)) * into;
                         const bool standing = std::hypot(o.vx, o.vy) < kStandingSpeed;
-                        const bool facing = dot({std::cos(o.yaw), std::sin(o.yaw)}, into) > kFacing;
-                        if (standing ? !facing : dot({o.vx, o.vy}, into) <= 0) continue;
+                        const bool waits = o.intent ? o.crossing_at == c.id : dot({std::cos(o.yaw), std::sin(o.yaw)}, into) > kFacing;
+                        if (standing ? !waits : dot({o.vx, o.vy}, into) <= 0) continue;
                     }
                     consider(s.index, edge - kBeforeCrosswalk);
                 }

@@ -58,6 +58,11 @@ struct Snap {
     LaneId target_lane = kNoLane;  // the lane a running lane change / cut-in moves into
     double lane_move_since = 0;    // when that move began
     double lateral_to_go = NAN;    // lateral motion left in its plan in force (NaN: no plan)
+    // A simulated pedestrian's readable intent (its body language to a driver): the crosswalk it
+    // is heading for or waiting at to cross (-1: none). `intent` is false for pedestrians that
+    // follow waypoints, whose intent no one can read.
+    int32_t crossing_at = -1;
+    bool intent = false;
 };
 
 // One planning cycle as the decision trace shows it (kept only with RunOptions::trace).
@@ -130,6 +135,7 @@ struct Walker {
     std::string maneuver_name = "none";
     uint32_t cycles = 0;  // tree ticks so far
     double cycle_time = 0;  // of the last tick
+    double located_x = NAN, located_y = NAN;  // where its lane was last searched (pedestrian.cpp)
     std::vector<bt::Visit> visits;  // of the last tick (kept only with RunOptions::trace)
     std::map<int32_t, std::pair<double, uint32_t>> waits;  // `wait` timers, as Driver's
 };
