@@ -21,6 +21,7 @@ constexpr double kAhead = 1000.0;  // m
 // faced.
 constexpr double kTurnSpeed = 0.3;  // m/s
 constexpr double kRelocate = 1.0;  // m walked between two searches of the lane it is by
+constexpr double kStripEdge = 0.1;  // m a crosser keeps from the crosswalk's side edges
 
 // Whether the way from p to g crosses a lane where a crosswalk crosses it: p and g on either
 // side of the lane's tangent at the crossing (O(1): the lane is a line at the scale of a street
@@ -101,9 +102,9 @@ private:
         if (k.crosswalk >= 0) {
             const auto& c = w.net.crosswalks[static_cast<size_t>(k.crosswalk)];
             const Vec2 p{a.x, a.y};
-            if (k.phase == Walker::Phase::crossing && distance(p, crosswalk_end(c, 1 - k.entrance)) <= k.arrive) {
+            if (k.phase == Walker::Phase::crossing && distance(p, crosswalk_point(c, k, 1 - k.entrance)) <= k.arrive) {
                 k.phase = Walker::Phase::done;
-            } else if (k.phase == Walker::Phase::back && distance(p, crosswalk_end(c, k.entrance)) <= k.arrive) {
+            } else if (k.phase == Walker::Phase::back && distance(p, crosswalk_point(c, k, k.entrance)) <= k.arrive) {
                 k.phase = Walker::Phase::approaching;
             }
         }
@@ -122,11 +123,28 @@ std::shared_ptr<const AgentModel> make_walker_model() { return std::make_shared<
 
 Vec2 crosswalk_end(const road::Crosswalk& c, int end) { return end == 0 ? c.centre.front() : c.centre.back(); }
 
+// The unit normal (left of the centre line's direction) at an end of a crosswalk.
+Vec2 crosswalk_normal(const road::Crosswalk& c, int end) {
+    const size_t n = c.centre.size();
+    const Vec2 d = end == 0 ? c.centre[1] - c.centre[0] : c.centre[n - 1] - c.centre[n - 2];
+    const double len = std::max(norm(d), 1e-9);
+    return {-d.y / len, d.x / len};
+}
+
+Vec2 crosswalk_point(const road::Crosswalk& c, const Walker& k, int end) {
+    return crosswalk_end(c, end) + k.cross_offset * crosswalk_normal(c, end);
+}
+
+double crosswalk_offset(const road::Crosswalk& c, int entrance, Vec2 p, double radius) {
+    const double room = std::max(0.0, 0.5 * c.width - radius - kStripEdge);
+    return std::clamp(dot(p - crosswalk_end(c, entrance), crosswalk_normal(c, entrance)), -room, room);
+}
+
 Intent intent(const World& w, const Agent& a) {
     const Walker& k = *a.walker;
     if (k.crosswalk >= 0 && k.phase != Walker::Phase::done && k.phase != Walker::Phase::none) {
         const auto& c = w.net.crosswalks[static_cast<size_t>(k.crosswalk)];
-        const Vec2 to = crosswalk_end(c, k.phase == Walker::Phase::crossing ? 1 - k.entrance : k.entrance);
+        const Vec2 to = crosswalk_point(c, k, k.phase == Walker::Phase::crossing ? 1 - k.entrance : k.entrance);
         return {to, k.speed};
     }
     if (k.has_goal) return {k.goal, k.speed};

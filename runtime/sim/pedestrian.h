@@ -22,6 +22,12 @@ std::shared_ptr<const AgentModel> make_walker_model();
 
 // An end of a crosswalk: 0 the first point of its centre line, 1 the last.
 road::Vec2 crosswalk_end(const road::Crosswalk& c, int end);
+// Where a walker enters or leaves a crosswalk at an end: the end, moved across the crosswalk by
+// the walker's offset (a crowd crosses side by side, not through one point).
+road::Vec2 crosswalk_point(const road::Crosswalk& c, const Walker& k, int end);
+// The offset across the crosswalk a pedestrian of `radius` at `p` keeps, entering by `entrance`:
+// where it stands across it, within its width.
+double crosswalk_offset(const road::Crosswalk& c, int entrance, road::Vec2 p, double radius);
 
 // Where the pedestrian walks now and how fast (speed 0: it stands).
 struct Intent {

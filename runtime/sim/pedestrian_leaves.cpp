@@ -172,7 +172,7 @@ private:
         return k.crosswalk >= 0 && (k.phase == Phase::approaching || k.phase == Phase::crossing || k.phase == Phase::back);
     }
     const road::Crosswalk& crosswalk() const { return w.net.crosswalks[static_cast<size_t>(k.crosswalk)]; }
-    Vec2 end(int e) const { return crosswalk_end(crosswalk(), e); }
+    Vec2 end(int e) const { return crosswalk_point(crosswalk(), k, e); }
 
     // The part of its way where vehicles cross it: its target crosswalk (from where it is on it),
     // else the straight way to where it walks.
@@ -242,6 +242,8 @@ private:
             k.crosswalk = pick->crosswalk;
             k.entrance = pick->entrance;
             k.phase = Phase::approaching;
+            const auto& c = w.net.crosswalks[static_cast<size_t>(k.crosswalk)];
+            k.cross_offset = crosswalk_offset(c, k.entrance, {a.x, a.y}, 0.5 * std::max(a.v->length, a.v->width));
         }
         return bt::Status::success;
     }

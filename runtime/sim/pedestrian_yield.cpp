@@ -12,12 +12,13 @@ namespace {
 
 using road::Vec2;
 
-constexpr double kEntranceZone = 2.0;   // m beyond a crosswalk's ends where a pedestrian waits to enter
+constexpr double kEntranceZone = 3.0;   // m beyond the carriageway's edge where a pedestrian waits to enter
 constexpr double kStripMargin = 0.5;    // m beside the strip that still counts as on it
 constexpr double kNearLane = 2.5;       // m beyond the driver's lane edge: close enough to yield
 constexpr double kStandingSpeed = 0.2;  // m/s
 constexpr double kBeforeCrosswalk = 1.0;   // m between the front bumper and the crosswalk's edge
 constexpr double kBeforePedestrian = 2.0;  // m between the front bumper and a pedestrian off crosswalks
+constexpr double kHeadingOnto = 0.5;  // cos of the angle within which a walker heads onto the carriageway
 constexpr double kFacing = 0.3;  // cos of the angle within which a standing pedestrian faces the crosswalk
 constexpr double kEntering = 3.0;  // s: a pedestrian walking into the lane within this is yielded to
 
@@ -44,6 +45,21 @@ Along along(const std::vector<Vec2>& line, Vec2 p) {
     return best;
 }
 
+// The part of a crosswalk over the lanes it crosses, as arc lengths along its centre line (the
+// rest is kerb, island or verge).
+std::pair<double, double> carriageway(const road::RoadNetwork& net, const road::Crosswalk& c) {
+    double lo = INFINITY, hi = -INFINITY;
+    for (const auto& x : c.crossings) {
+        const auto& ref = net.reference(x.lane);
+        const double a = along(c.centre, ref.point(std::clamp(x.s, 0.0, ref.length()))).s;
+        const double half = 0.5 * net.lane(x.lane).width;
+        lo = std::min(lo, a - half);
+        hi = std::max(hi, a + half);
+    }
+    if (lo > hi) return {0.0, c.length};
+    return {lo, hi};
+}
+
 }  // namespace
 
 std::optional<Yield> pedestrian_ahead(const Leaves& l, double distance_limit) {
@@ -67,25 +83,27 @@ std::optional<Yield> pedestrian_ahead(const Leaves& l, double distance_limit) {
                 const double edge = start + x.s - x.half_extent;
                 // Already on it (its front past the near edge), or beyond the look-ahead.
                 if (edge < front - 0.5 || edge - front > distance_limit) continue;
+                const auto [road_lo, road_hi] = carriageway(w.net, c);
                 for (const Seen& s : l.view.seen) {
                     const Snap& o = w.snapshot[static_cast<size_t>(s.index)];
                     if (!o.pedestrian) continue;
                     const Along at = along(c.centre, {o.x, o.y});
-                    if (at.off > 0.5 * c.width + kStripMargin || at.s < -kEntranceZone || at.s > c.length + kEntranceZone) continue;
-                    // Near its lane, or walking toward it; at an end, only when not walking away.
+                    if (at.off > 0.5 * c.width + kStripMargin || at.s < road_lo - kEntranceZone || at.s > road_hi + kEntranceZone) continue;
+                    // Near its lane, or walking toward it; off the carriageway (on the kerb
+                    // part of the crosswalk or at its end), only when heading onto it.
                     const bool near = std::fabs(s.f.d) <= half_lane + kNearLane;
                     const bool toward = s.f.d * s.f.d_d < -0.05;
                     if (!near && !toward) continue;
-                    if (at.s < 0 || at.s > c.length) {
-                        // At an end: walking into the crosswalk, or standing there waiting to
-                        // cross (a simulated pedestrian's intent shows; one that follows
-                        // waypoints waits when it faces the crosswalk, one who has crossed faces
-                        // away from it).
-                        Vec2 into = at.s < 0 ? c.centre[1] - c.centre[0] : c.centre[c.centre.size() - 2] - c.centre.back();
+                    if (at.s < road_lo || at.s > road_hi) {
+                        // Walking onto the carriageway, or standing there waiting to cross (a
+                        // simulated pedestrian's intent shows; one that follows waypoints waits
+                        // when it faces the crosswalk, one who has crossed faces away from it).
+                        Vec2 into = at.s < road_lo ? c.centre[1] - c.centre[0] : c.centre[c.centre.size() - 2] - c.centre.back();
                         into = (1.0 / std::max(norm(into), 1e-9)) * into;
                         const bool standing = std::hypot(o.vx, o.vy) < kStandingSpeed;
                         const bool waits = o.intent ? o.crossing_at == c.id : dot({std::cos(o.yaw), std::sin(o.yaw)}, into) > kFacing;
-                        if (standing ? !waits : dot({o.vx, o.vy}, into) <= 0) continue;
+                        const double speed = std::hypot(o.vx, o.vy);
+                        if (standing ? !waits : dot({o.vx, o.vy}, into) <= kHeadingOnto * speed) continue;
                     }
                     consider(s.index, edge - kBeforeCrosswalk);
                 }

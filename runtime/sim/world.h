@@ -130,6 +130,7 @@ struct Walker {
     // entrance), done (left it at the far end).
     int32_t crosswalk = -1;
     int entrance = 0;  // the end it enters by: 0 the first point of the centre line, 1 the last
+    double cross_offset = 0;  // across the crosswalk, from its centre line (left positive)
     enum class Phase { none, approaching, crossing, back, done } phase = Phase::none;
     int32_t maneuver = -1;
     std::string maneuver_name = "none";
