@@ -321,6 +321,10 @@ void Checker::check_tree_agent(const ast::TreeRef& ref, const ir::Vehicle& v, co
     for (const auto& n : nodes) {
         catalog::Agent agent = catalog::Agent::any;
         std::string leaf;
+        // A leaf the checker could not resolve (already reported) has no agent.
+        const bool known = n.leaf >= 0 && static_cast<size_t>(n.leaf) < (n.kind == ir::NodeKind::maneuver ? catalog::maneuvers().size()
+                                                                                                         : catalog::conditions().size());
+        if (!known) continue;
         if (n.kind == ir::NodeKind::maneuver) {
             const auto& m = catalog::maneuvers()[static_cast<size_t>(n.leaf)];
             agent = m.agent;

@@ -6,7 +6,7 @@
 // reference's .btree library (../shared/data) when it is there.
 //
 // Property: nothing in the scenario adds statements to the converted .sdv (names pasted
-// unescaped could): the compiled scenario has one vehicle per GeoScenario vehicle and object,
+// unescaped could): the compiled scenario has one agent per GeoScenario vehicle, pedestrian and object,
 // one light per traffic light, and the expectations of the reference's success criterion
 // (no collision when `collision` is on, each goal-ending SDV, else every SDV, reaches its goal,
 // and no time-out when some goal ends the run), as convert_geoscenario writes them.
@@ -83,7 +83,7 @@ void check_no_injection(const std::string& path, const std::string& text, const 
         goal_enders += v.btype == "SDV" && v.goal_ends_simulation;
     }
     const size_t expects = (sc->collision ? 1 : 0) + (goal_enders ? goal_enders + 1 : sdv);
-    const size_t vehicles = sc->vehicles.size() + sc->objects.size();
+    const size_t vehicles = sc->vehicles.size() + sc->objects.size() + sc->pedestrians.size();
     if (s.vehicles.size() != vehicles || s.lights.size() != sc->lights.size() || s.expect_roots.size() != expects) {
         fuzz::fail(kTarget, "the converted scenario has " + std::to_string(s.vehicles.size()) + " vehicles, " +
                                 std::to_string(s.lights.size()) + " lights, " + std::to_string(s.expect_roots.size()) +
