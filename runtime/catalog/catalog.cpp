@@ -324,8 +324,8 @@ void add_pedestrian_conditions(std::vector<ConditionDef>& cs) {
     add("has_target_crosswalk", ConditionKind::has_target_crosswalk,
         "the pedestrian has chosen a crosswalk (select_crosswalk) and not yet left it", {});
     add("approaching_crosswalk", ConditionKind::approaching_crosswalk,
-        "a crosswalk on its way to the goal (one across a lane with the pedestrian and its goal on either side, "
-        "within max_detour) has an end within a distance",
+        "a crosswalk on its way to the goal (one across vehicle lanes whose far end is nearer to the goal than "
+        "its near end, within max_detour) has an end within a distance",
         {qty("distance", Dim::length, DefaultValue{15}, 0, kMaxDistance, "distance to the crosswalk's near end"),
          qty("max_detour", Dim::length, DefaultValue{50}, 0, kMaxDistance,
              "longest detour over walking straight to the goal")});

@@ -23,17 +23,6 @@ constexpr double kTurnSpeed = 0.3;  // m/s
 constexpr double kRelocate = 1.0;  // m walked between two searches of the lane it is by
 constexpr double kStripEdge = 0.1;  // m a crosser keeps from the crosswalk's side edges
 
-// Whether the way from p to g crosses a lane where a crosswalk crosses it: p and g on either
-// side of the lane's tangent at the crossing (O(1): the lane is a line at the scale of a street
-// crossing).
-bool way_crosses(const road::RoadNetwork& net, const road::Crosswalk::Crossing& x, Vec2 p, Vec2 g) {
-    const auto& ref = net.reference(x.lane);
-    const double s = std::clamp(x.s, 0.0, ref.length());
-    const Vec2 q = ref.point(s);
-    const Vec2 t{std::cos(ref.heading(s)), std::sin(ref.heading(s))};
-    return cross(t, p - q) * cross(t, g - q) < 0;
-}
-
 class WalkerModel final : public AgentModel {
 public:
     const char* kind() const override { return "pedestrian"; }
@@ -156,11 +145,10 @@ std::vector<WayCrosswalk> crosswalks_on_way(const World& w, Vec2 p, Vec2 goal, d
     const double straight = distance(p, goal);
     for (size_t i = 0; i < w.net.crosswalks.size(); ++i) {
         const auto& c = w.net.crosswalks[i];
-        if (c.centre.size() < 2) continue;
-        const bool needed = std::any_of(c.crossings.begin(), c.crossings.end(),
-                                        [&](const road::Crosswalk::Crossing& x) { return way_crosses(w.net, x, p, goal); });
-        if (!needed) continue;
+        if (c.centre.size() < 2 || c.crossings.empty()) continue;
         const int entrance = distance(p, crosswalk_end(c, 0)) <= distance(p, crosswalk_end(c, 1)) ? 0 : 1;
+        // Crossing it brings the pedestrian nearer to its goal: its far end is the nearer one.
+        if (distance(crosswalk_end(c, 1 - entrance), goal) >= distance(crosswalk_end(c, entrance), goal)) continue;
         const double to = distance(p, crosswalk_end(c, entrance));
         const double detour = to + c.length + distance(crosswalk_end(c, 1 - entrance), goal) - straight;
         if (detour > max_detour) continue;

@@ -36,9 +36,9 @@ struct Intent {
 };
 Intent intent(const World& w, const Agent& a);
 
-// A crosswalk on the way from `p` to `goal`: one that crosses a lane with p and the goal on
-// either side of it (of its tangent where the crosswalk crosses it), entered by the end nearer
-// to p, with the detour over walking straight.
+// A crosswalk on the way from `p` to `goal`: one across vehicle lanes whose far end (from the
+// end nearer to p, its entrance) is nearer to the goal than its entrance, with the detour over
+// walking straight.
 struct WayCrosswalk {
     int32_t crosswalk = -1;
     int entrance = 0;

@@ -68,7 +68,10 @@ public:
             case ConditionKind::approaching_crosswalk: {
                 if (!k.has_goal) return false;
                 const auto on_way = crosswalks_on_way(w, p, k.goal, num(n, "max_detour"));
-                return !on_way.empty() && on_way.front().distance <= num(n, "distance");
+                const bool crossed = k.phase == Phase::done;  // the one it has just crossed does not count
+                return std::any_of(on_way.begin(), on_way.end(), [&](const WayCrosswalk& c) {
+                    return !(crossed && c.crosswalk == k.crosswalk) && c.distance <= num(n, "distance");
+                });
             }
             case ConditionKind::at_crosswalk_entrance:
                 return target_phase() && k.phase != Phase::crossing && distance(p, end(k.entrance)) <= num(n, "distance");
@@ -226,7 +229,11 @@ private:
     bt::Status select(const ir::Node& n) {
         if (!k.has_goal) return bt::Status::failure;
         if (k.crosswalk >= 0 && (k.phase == Phase::crossing || k.phase == Phase::back)) return bt::Status::success;
-        const auto on_way = crosswalks_on_way(w, {a.x, a.y}, k.goal, num(n, "max_detour"));
+        auto on_way = crosswalks_on_way(w, {a.x, a.y}, k.goal, num(n, "max_detour"));
+        // Never the one it has just crossed (however the way looks from its far end).
+        if (k.phase == Phase::done) {
+            std::erase_if(on_way, [&](const WayCrosswalk& c) { return c.crosswalk == k.crosswalk; });
+        }
         if (on_way.empty()) return bt::Status::failure;
         const WayCrosswalk* pick = &on_way.front();
         const auto* by = param(n, "by");

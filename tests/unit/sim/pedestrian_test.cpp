@@ -6,8 +6,10 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "compiler/sema/compile.h"
 #include "runtime/sim/pedestrian.h"
@@ -219,4 +221,30 @@ TEST_CASE("a path pedestrian follows its speed profile, linear in the distance w
     CHECK(monotone);
     CHECK(profile);
     CHECK(last_x == doctest::Approx(170));
+}
+
+TEST_CASE("on a real map, a pedestrian crosses by crosswalks that bring it nearer its goal, none twice") {
+    // The Waterloo intersection with walkways: from the south-west corner to the east of the
+    // south arm, with its signal red first (std.walk then chooses a green crosswalk) and green.
+    const std::string map = std::string(SDV_SHARED_DIR) + "/data/geoscenario/maps/lanelet2_university_weber_alt_walkways.osm";
+    if (!std::filesystem::exists(map)) return;  // the third-party data is not beside this checkout
+    for (const char* program : {"red 12 s  green 15 s  yellow 3 s", "green 15 s  yellow 3 s  red 12 s"}) {
+        const std::string text = "import \"std/pedestrian.sdv\"\nmap weber { file \"" + map + "\" }\nscenario s { road weber  timeout 90 s\n" +
+                                 "  light ped_tl_e_w_south { " + program + " }\n" +
+                                 "  pedestrian p: sdp { start at (52 m, 10 m) goal at (80 m, 26 m) speed 1.3 m/s tree std.walk() } }\n";
+        auto p = compile(text);
+        REQUIRE(p);
+        CAPTURE(program);
+        std::vector<int32_t> crossed;
+        const auto r = run(*p, [&](const sim::World& w, double) {
+            const auto& k = *w.agents[0].walker;
+            if (k.phase == sim::Walker::Phase::crossing && (crossed.empty() || crossed.back() != k.crosswalk)) crossed.push_back(k.crosswalk);
+        });
+        CHECK(r.vehicles.at(0).reached_goal);
+        CHECK(!crossed.empty());
+        CHECK(crossed.size() <= 3);  // round the junction at most
+        for (size_t i = 0; i < crossed.size(); ++i) {
+            for (size_t j = i + 1; j < crossed.size(); ++j) CHECK(crossed[i] != crossed[j]);
+        }
+    }
 }
