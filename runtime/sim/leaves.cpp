@@ -9,7 +9,7 @@ namespace sdv::sim {
 
 using catalog::ManeuverKind;
 
-const ir::ParamValue* Leaves::param(const ir::Node& n, const char* name) const {
+const ir::ParamValue* leaf_param(const ir::Node& n, const char* name) {
     const auto& defs = n.kind == ir::NodeKind::maneuver ? catalog::maneuvers()[static_cast<size_t>(n.leaf)].params
                                                         : catalog::conditions()[static_cast<size_t>(n.leaf)].params;
     for (size_t i = 0; i < defs.size() && i < n.params.size(); ++i) {
@@ -18,16 +18,22 @@ const ir::ParamValue* Leaves::param(const ir::Node& n, const char* name) const {
     return nullptr;
 }
 
-double Leaves::num(const ir::Node& n, const char* name) const {
-    const auto* p = param(n, name);
+double leaf_number(const ir::Node& n, const char* name, const ir::TreeInstance& tree, uint64_t seed, int agent) {
+    const auto* p = leaf_param(n, name);
     if (p == nullptr) return NAN;
     if (n.kind == ir::NodeKind::condition && p->number.hi > p->number.lo) {
-        const auto node = static_cast<uint32_t>(&n - a.driver->tree->instance().nodes.data());
+        const auto node = static_cast<uint32_t>(&n - tree.nodes.data());
         const auto slot = static_cast<uint32_t>(p - n.params.data());
-        planner::RandomStream rng(w.seed, static_cast<uint32_t>(a.index), 0x80000000u | (node << 8) | slot);
+        planner::RandomStream rng(seed, static_cast<uint32_t>(agent), 0x80000000u | (node << 8) | slot);
         return p->number.lo + (p->number.hi - p->number.lo) * rng.uniform();
     }
     return p->number.value;
+}
+
+const ir::ParamValue* Leaves::param(const ir::Node& n, const char* name) const { return leaf_param(n, name); }
+
+double Leaves::num(const ir::Node& n, const char* name) const {
+    return leaf_number(n, name, a.driver->tree->instance(), w.seed, a.index);
 }
 
 const Seen* Leaves::vehicle(const ir::Node& n, const char* name, bool default_leader) const {

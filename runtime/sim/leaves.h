@@ -14,6 +14,13 @@
 
 namespace sdv::sim {
 
+// A parameter of a leaf as given in the scenario (null when left to its default).
+const ir::ParamValue* leaf_param(const ir::Node& n, const char* name);
+// A number parameter of a leaf of `tree` (NaN when not given). A condition threshold given as a
+// range is one draw per agent, node and run: an acceptance gap varies between drivers (and
+// pedestrians), not from tick to tick.
+double leaf_number(const ir::Node& n, const char* name, const ir::TreeInstance& tree, uint64_t seed, int agent);
+
 class Leaves : public bt::TickContext {
 public:
     Leaves(const World& world, Agent& agent, double plan_time, double start_time)
@@ -22,11 +29,8 @@ public:
     bt::Status maneuver(const ir::Node& n, int32_t index) override;
     void perceive() { view.build(w, a, t0, t_start); }
 
-    // A parameter of a leaf as given in the scenario (null when left to its default).
+    // leaf_param and leaf_number of this driver's tree.
     const ir::ParamValue* param(const ir::Node& n, const char* name) const;
-    // A number parameter (NaN when not given). A condition threshold given as a range is one
-    // draw per vehicle, node and run: a driver's acceptance gap varies between drivers, not from
-    // tick to tick.
     double num(const ir::Node& n, const char* name) const;
     // A vehicle parameter resolved against the view (the nearest leader ahead when not given
     // and `default_leader`); null when it names nobody in sensor range.

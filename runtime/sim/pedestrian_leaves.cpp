@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "runtime/catalog/catalog.h"
-#include "runtime/planner/sampling.h"
+#include "runtime/sim/leaves.h"
 #include "runtime/sim/pedestrian.h"
 
 namespace sdv::sim {
@@ -135,27 +135,8 @@ public:
     }
 
 private:
-    const ir::ParamValue* param(const ir::Node& n, const char* name) const {
-        const auto& defs = n.kind == ir::NodeKind::maneuver ? catalog::maneuvers()[static_cast<size_t>(n.leaf)].params
-                                                            : catalog::conditions()[static_cast<size_t>(n.leaf)].params;
-        for (size_t i = 0; i < defs.size() && i < n.params.size(); ++i) {
-            if (defs[i].name == name) return n.params[i].given ? &n.params[i] : nullptr;
-        }
-        return nullptr;
-    }
-
-    // As Leaves::num: a threshold given as a range is one draw per pedestrian, node and run.
-    double num(const ir::Node& n, const char* name) const {
-        const auto* p = param(n, name);
-        if (p == nullptr) return NAN;
-        if (n.kind == ir::NodeKind::condition && p->number.hi > p->number.lo) {
-            const auto node = static_cast<uint32_t>(&n - k.tree->instance().nodes.data());
-            const auto slot = static_cast<uint32_t>(p - n.params.data());
-            planner::RandomStream rng(w.seed, static_cast<uint32_t>(a.index), 0x80000000u | (node << 8) | slot);
-            return p->number.lo + (p->number.hi - p->number.lo) * rng.uniform();
-        }
-        return p->number.value;
-    }
+    const ir::ParamValue* param(const ir::Node& n, const char* name) const { return leaf_param(n, name); }
+    double num(const ir::Node& n, const char* name) const { return leaf_number(n, name, k.tree->instance(), w.seed, a.index); }
 
     // The agent a `vehicle` parameter names, within sensor range (null: none).
     const Snap* other(const ir::Node& n) const {
