@@ -728,6 +728,9 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
     out << "map gs_map {\n    file " << quoted(relative_to(*map, options.out_dir)) << "\n    origin (" << fixed(sc->origin.lat, 11)
         << ", " << fixed(sc->origin.lon, 11) << ", " << fixed(sc->origin_alt, 3) << " m)\n}\n\n";
     out << "scenario " << scen << " {\n    road gs_map\n    timeout " << fixed(sc->timeout, 3) << " s\n";
+    // The reference's rates (SimConfig.py: TRAFFIC_RATE, PLANNER_RATE, PLANNING_TIME): outcomes
+    // near a threshold, and the tick keys of violations.json, depend on them.
+    out << "    rate traffic 40 Hz\n    rate planning 5 Hz\n    rate latency 200 ms\n";
     // A path agent (PV, PP) moves along its path at the speed of its nodes (agentspeed, km/h),
     // interpolated in the distance travelled, from the first node on (Actor.follow_path); a node
     // without one keeps the speed before it; the first, the agent's speed tag.

@@ -867,6 +867,7 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
         for (LaneId l : row.priority) net.lane_mut(l).right_of_way = index;
         net.rights_of_way.push_back(std::move(row));
     }
+    mark_junctions(net);
     add_pedestrian_areas(nodes, ways, rels, rel_order, light_index, net, r.warnings);
     find_crossings(net);
     if (r.drivable == 0 && r.errors.empty()) r.errors.push_back("the map has no drivable lanelet");

@@ -273,4 +273,41 @@ void find_crossings(RoadNetwork& net) {
     }
 }
 
+void mark_junctions(RoadNetwork& net) {
+    const auto& lanes = net.lanes();
+    std::vector<Bounds> boxes;
+    boxes.reserve(lanes.size());
+    for (const auto& l : lanes) boxes.push_back(bounds_of(l.centre, 0, l.centre.size()));
+    // A two-way lanelet is two lanes on one centre line ("<id>" and "<id>:inv"): not a conflict.
+    auto same_line = [](const Lane& a, const Lane& b) {
+        auto base = [](const std::string& n) { return n.size() > 4 && n.compare(n.size() - 4, 4, ":inv") == 0 ? n.substr(0, n.size() - 4) : n; };
+        return base(a.name) == base(b.name);
+    };
+    auto related = [](const Lane& a, LaneId b) {
+        auto has = [b](const std::vector<LaneId>& v) { return std::find(v.begin(), v.end(), b) != v.end(); };
+        return a.left == b || a.right == b || has(a.successors) || has(a.predecessors);
+    };
+    auto meets = [](const Lane& a, const Lane& b) {
+        for (size_t i = 0; i + 1 < a.centre.size(); ++i) {
+            for (size_t k = 0; k + 1 < b.centre.size(); ++k) {
+                if (meet(a.centre[i], a.centre[i + 1], b.centre[k], b.centre[k + 1])) return true;
+            }
+        }
+        return false;
+    };
+    std::vector<char> in(lanes.size(), 0);
+    for (size_t i = 0; i < lanes.size(); ++i) {
+        for (size_t j = i + 1; j < lanes.size(); ++j) {
+            if ((in[i] && in[j]) || !boxes[i].overlaps(boxes[j])) continue;
+            const Lane& a = lanes[i];
+            const Lane& b = lanes[j];
+            if (related(a, b.id) || related(b, a.id) || same_line(a, b) || !meets(a, b)) continue;
+            in[i] = in[j] = 1;
+        }
+    }
+    for (size_t i = 0; i < lanes.size(); ++i) {
+        if (in[i]) net.lane_mut(static_cast<LaneId>(i)).in_junction = true;
+    }
+}
+
 }  // namespace sdv::road

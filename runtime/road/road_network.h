@@ -137,6 +137,12 @@ private:
 // once lanes and crosswalks are complete, before prepare()).
 void find_crossings(RoadNetwork& net);
 
+// Marks the lanes of junctions in a network that does not say where its junctions are (a
+// Lanelet2 map): a lane is in a junction when its centre line crosses or touches another's that
+// is neither its successor, its predecessor nor its neighbour, as the lanes of an intersection
+// cross, merge and diverge (Lanelet2's conflicting lanelets).
+void mark_junctions(RoadNetwork& net);
+
 // Polyline helpers.
 double polyline_length(const std::vector<Vec2>& pts);
 std::vector<Vec2> offset_polyline(const std::vector<Vec2>& pts, double d);  // left positive

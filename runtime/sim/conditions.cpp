@@ -217,20 +217,22 @@ bool intersection_occupied(Leaves& l, const ir::Node& n, int32_t) {
     return false;
 }
 
-// First come, first served among vehicles stopped at all-way-stop lines; ties by vehicle
-// order. The junction must be clear.
+// First come, first served among vehicles that came to rest at their all-way-stop lines, by
+// when each first came to rest there (re-positioning up to the line keeps its place); ties by
+// vehicle order. The junction must be clear, and no one who stopped at its line may be pulling
+// away from it: that one has the turn until it is in the junction (else two go at once).
 bool all_way_stop_turn(Leaves& l, const ir::Node&, int32_t) {
     const Snap& m = snap(l, l.a.index);
     if (m.stopped_since < 0) return false;
+    const double mine = m.stopped_line == m.lane ? m.stopped_line_since : m.stopped_since;
     for (const Seen& s : l.view.seen) {
         const Snap& o = snap(l, s.index);
-        if (o.lane == kNoLane) continue;
+        if (o.lane == kNoLane || s.dist >= 40) continue;
         const auto& ol = l.w.net.lane(o.lane);
-        if (ol.in_junction && s.dist < 40) return false;
-        if (ol.all_way_stop && o.stopped_since >= 0 && s.dist < 40 &&
-            (o.stopped_since < m.stopped_since || (o.stopped_since == m.stopped_since && s.index < l.a.index))) {
-            return false;
-        }
+        if (ol.in_junction) return false;
+        if (!ol.all_way_stop || o.stopped_line != o.lane) continue;
+        if (o.stopped_since < 0) return false;  // pulling away: its turn
+        if (o.stopped_line_since < mine || (o.stopped_line_since == mine && s.index < l.a.index)) return false;
     }
     return true;
 }

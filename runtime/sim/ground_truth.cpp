@@ -283,6 +283,7 @@ void GroundTruth::measure_vehicles(World& w, double t, int tick) {
             const auto& l = w.net.lane(a.lane);
             const double g = l.stop_line_s ? *l.stop_line_s - (a.lane_s + 0.5 * a.v->length) : -1;
             if (g >= -0.5 && g <= 5.0 && (a.stopped_line != a.lane || g < a.stopped_gap)) {
+                if (a.stopped_line != a.lane) a.stopped_line_since = t;
                 a.stopped_line = a.lane;
                 a.stopped_gap = std::max(0.0, g);
             }

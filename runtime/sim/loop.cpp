@@ -33,6 +33,8 @@ void take_snapshot(World& w, double t) {
                          a.v->kind == ir::VehicleKind::static_object, a.v->pedestrian, a.stopped_since, a.driver ? a.driver->maneuver : -1, a.active, a.lane_s,
                          a.driver ? a.driver->target_lane : kNoLane, a.driver ? a.driver->lane_move_since : 0,
                          lateral_to_go(a, t)};
+        w.snapshot[i].stopped_line = a.stopped_line;
+        w.snapshot[i].stopped_line_since = a.stopped_line_since;
         if (a.walker) {
             w.snapshot[i].intent = true;
             w.snapshot[i].crossing_at = a.walker->phase == Walker::Phase::approaching ? a.walker->crosswalk : -1;

@@ -14,6 +14,8 @@ namespace {
 
 constexpr double kComfortableStop = 3.0;  // m/s²: the deceleration of a comfortable stop
 constexpr double kCreepSpeed = 1.0;       // m/s: slower, stopping is holding, not braking
+constexpr double kStopSpeed = 0.05;       // m/s: the reference's "already stopped"
+constexpr double kStopReplan = 1.0;       // m: a stop point nearer than this is not planned for again
 
 // Every candidate as a world-frame polyline (6 points), with its outcome, for viewers.
 std::vector<PlanTrace::Path> candidate_paths(const planner::PlanWorkspace& ws, const planner::PlanResult& result,
@@ -101,8 +103,23 @@ void plan_cycle(const World& w, Agent& a, double t0) {
     const bool commit = sel >= 0 && sel == cut.node && cut.in_lane && !d.pending && tv >= 0 && std::fabs(target_v - cut.target_v) <= 1.0 &&
                         held != nullptr && held->maneuver == sel && held->ref == d.ref && t_start < cut.due - 1e-9 &&
                         planner::stays_clear(held->traj, t_start - held->start, cut.due - t_start, in.request);
+    // A stop point less than 1 m ahead of a vehicle still moving, or behind it, gets no new plan
+    // (as the reference's plan_stop, sv/maneuvers/Models.py): it goes on with the plan in force,
+    // the stop it planned before or the drive that took it there. Re-planning a stop there only
+    // holds it in place: at an all-way stop, "stopped, my turn, go" then became a crawl over the
+    // line, every start braked again by the next cycle's stop.
+    const auto& start = in.request.start;
+    const double from_held = held != nullptr ? t_start - held->start : 0;
+    const bool at_stop_point = sel >= 0 && in.config.kind == catalog::ManeuverKind::stop && in.config.stop_at != planner::StopTarget::now &&
+                               std::fabs(start.s_d) > kStopSpeed && in.request.stop_s - in.config.stop_before - start.s < kStopReplan;
+    const bool keep_held = at_stop_point && !commit && held != nullptr && !d.pending && held->ref == d.ref && from_held >= 0 &&
+                           held->traj.duration - from_held >= 1.0 &&
+                           planner::stays_clear(held->traj, from_held, std::min(3.0, held->traj.duration - from_held), in.request);
     planner::PlanResult result;
-    if (commit) {
+    if (keep_held) {
+        result.trajectory = held->traj;
+        ws.candidates.clear();
+    } else if (commit) {
         result.trajectory = held->traj;
         ws.candidates.clear();
         d.pending.reset();
@@ -114,8 +131,8 @@ void plan_cycle(const World& w, Agent& a, double t0) {
             cut.target_v = target_v;
         }
     }
-    d.fallback_kind = nullptr;
-    if (result.record.fallback) {
+    d.fallback_kind = keep_held ? "previous_plan" : nullptr;
+    if (result.record.fallback && !keep_held) {
         // Nothing feasible: keep the plan in force while it stays valid (the same maneuver, at
         // least one more second of it, in the same frame) and clear of everyone; else a
         // comfortable stop (firm enough to stop at a stop maneuver's point) when that is clear;

@@ -63,6 +63,8 @@ struct Snap {
     // follow waypoints, whose intent no one can read.
     int32_t crossing_at = -1;
     bool intent = false;
+    LaneId stopped_line = kNoLane;  // the lane at whose stop line it last came to a stop
+    double stopped_line_since = 0;  // when it first came to rest there
 };
 
 // One planning cycle as the decision trace shows it (kept only with RunOptions::trace).
@@ -168,6 +170,7 @@ struct Agent {
     double goal_dist = -1;  // along-track distance to the goal once within reach (< 0: not yet)
     LaneId stopped_line = kNoLane;  // the lane at whose stop line the agent last came to a stop
     double stopped_gap = 0;         // its front bumper's distance to that line then
+    double stopped_line_since = 0;  // when it first came to rest there (its arrival at the line)
     std::shared_ptr<const AgentModel> model;
     std::unique_ptr<Driver> driver;  // agents that plan (SDVs)
     std::unique_ptr<Walker> walker;  // simulated pedestrians
