@@ -13,7 +13,8 @@
 namespace sdv::cli {
 
 const std::vector<std::string> kWarningNames = {"unused-tree", "unused-parameter", "unused-import",
-                                                "no-expectations", "gss-ignored-parameter", "gss-extra-tree"};
+                                                "no-expectations", "gss-ignored-parameter", "gss-extra-tree", "gss-unknown-type",
+                                                "gss-ignored-element"};
 
 WarningFlags extract_warning_flags(std::vector<std::string>& args) {
     WarningFlags f;

@@ -174,7 +174,9 @@ ENTRIES = {
               "A vehicle names a route or trajectory the file does not define, a way refers to a "
               "missing node, or the map is not found (give its directory with `--map-dir`)."),
     "E0913": ("unsupported GeoScenario element",
-              "An element, agent type or tree leaf sdv cannot simulate yet (external vehicles, other pedestrian types such as EP, a `collision_vehicle_vid` or the `at_desired_speed` condition of a pedestrian tree)."),
+              "An element, tag or tree leaf sdv cannot simulate: an element GeoScenario 2.0 does not define, a "
+              "`collision_vehicle_vid` (a path agent timed to meet a vehicle) or the `at_desired_speed` condition of a "
+              "pedestrian tree."),
     "W0101": ("unused-tree", "A tree of the main file is used by no scenario (only when the file has a scenario)."),
     "W0102": ("unused-parameter", "A tree parameter is never referenced in the tree."),
     "W0103": ("unused-import", "Nothing from an import is used (only when the file has a scenario)."),
@@ -183,6 +185,11 @@ ENTRIES = {
               "A .btree condition or MConfig parameter that sdv (and, for conditions, the "
               "reference) ignores."),
     "W0902": ("gss-extra-tree", "A .btree file holds more than one tree; only the first is used."),
+    "W0903": ("gss-unknown-type",
+              "An agent type GeoScenario does not define: like the reference, sdv makes such a vehicle a neutral "
+              "(motionless) one and such a pedestrian a path pedestrian."),
+    "W0904": ("gss-ignored-element",
+              "An element the reference's scenario setup does not read (egogoal, metric, trigger): ignored."),
 }
 
 

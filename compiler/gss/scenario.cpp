@@ -4,6 +4,7 @@
 
 #include "compiler/gss/lower.h"
 #include "runtime/road/lanelet2_reader.h"
+#include "runtime/road/routing.h"
 
 #include <pugixml.hpp>
 
@@ -149,11 +150,20 @@ public:
                 if (auto l = tags.find("length"); l != tags.end()) o.length = positive(l->second, who, "length").value_or(0.5);
                 if (auto w = tags.find("width"); w != tags.end()) o.width = positive(w->second, who, "width").value_or(0.5);
                 sc.objects.push_back(o);
+            } else if (what == "egostart") {
+                // The reference adds an external vehicle 99, 'Ego', for a client to drive.
+                sc.egostart = p;
+                if (auto o = tags.find("orientation"); o != tags.end()) sc.ego_orientation = number(o->second, "egostart", "orientation");
+            } else if (what == "egogoal" || what == "metric" || what == "trigger") {
+                diags_.warning("W0904", "gss-ignored-element", gs->second.range,
+                               "node " + std::to_string(id) + ": GeoScenario element '" + what +
+                                   "' is ignored, as by the reference (its ScenarioSetup does not read it)");
             } else if (what != "tnode") {
                 diags_.error("E0913", gs->second.range, "node " + std::to_string(id) + ": GeoScenario element '" + what +
                                                             "' is not supported by sdv")
-                    .notes.push_back({{}, "supported: globalconfig, origin, vehicle (SDV, TV, PV, EV), pedestrian (SP, TP, PP), "
-                                          "location, trafficlight, staticobject, route, trajectory, path"});
+                    .notes.push_back({{}, "supported: globalconfig, origin, vehicle (SDV, TV, PV, EV, neutral), pedestrian (SP, TP, PP), "
+                                          "location, trafficlight, staticobject, egostart, route, trajectory, path; ignored: "
+                                          "egogoal, metric, trigger"});
             }
         }
         for (auto w : osm.children("way")) {
@@ -162,8 +172,9 @@ public:
             if (gs == tags.end()) continue;
             const std::string what = gs->second.value;
             const auto name = text(tags, "name");
-            if (what != "route" && what != "trajectory" && what != "path") {
-                diags_.error("E0913", gs->second.range, "way: GeoScenario element '" + what + "' is not supported by sdv");
+            if (what != "route" && what != "trajectory" && what != "path" && what != "staticobject" && what != "location") {
+                diags_.error("E0913", gs->second.range, "way: GeoScenario element '" + what + "' is not supported by sdv")
+                    .notes.push_back({{}, "supported ways: route, trajectory, path, staticobject and location (areas)"});
                 continue;
             }
             if (!name) {
@@ -219,7 +230,8 @@ public:
             }
             if (what == "route") sc.routes[*name] = pts;
             else if (what == "path") sc.paths[*name] = pnodes;
-            else sc.trajectories[*name] = tnodes;
+            else if (what == "trajectory") sc.trajectories[*name] = tnodes;
+            else add_area(what, *name, pts, range(w), sc);
         }
         if (!have_config) diags_.error("E0911", {{file_, 0}, {file_, 0}}, "the scenario has no globalconfig node");
         if (!sc.has_origin) {
@@ -236,6 +248,9 @@ public:
             }
             if (v.btype == "TV") check_trajectory(sc, v.trajectory, v.range, who);
             if (v.btype == "PV") check_path(sc, v.path, v.has_speed, v.range, who);
+        }
+        if (sc.egostart && vids.count(99)) {
+            diags_.error("E0911", sc.egostart->range, "egostart: the reference makes it vehicle 99, and vehicle 99 exists");
         }
         assign_pids(sc);
         for (const auto& d : sc.pedestrians) {
@@ -299,6 +314,54 @@ private:
         return v;
     }
 
+    // An area (a way): a location is its centre (an SP's destination); a static object covers
+    // it, as the box of its extent in latitude and longitude (GeoScenario objects are upright
+    // boxes). The reference reads node locations and objects only.
+    void add_area(const std::string& what, const std::string& name, const std::vector<GeoPoint>& pts, diag::SourceRange at,
+                  GsScenario& sc) {
+        std::vector<GeoPoint> corners = pts;
+        if (corners.size() > 1 && corners.front().lat == corners.back().lat && corners.front().lon == corners.back().lon) corners.pop_back();
+        double lat0 = 90, lat1 = -90, lon0 = 180, lon1 = -180;
+        for (const auto& p : corners) {
+            lat0 = std::min(lat0, p.lat), lat1 = std::max(lat1, p.lat);
+            lon0 = std::min(lon0, p.lon), lon1 = std::max(lon1, p.lon);
+        }
+        GeoPoint c;
+        c.lat = 0.5 * (lat0 + lat1);
+        c.lon = 0.5 * (lon0 + lon1);
+        c.range = at;
+        if (what == "location") {
+            sc.locations[name] = c;
+            return;
+        }
+        GsObject o;
+        o.name = name;
+        o.at = c;
+        o.range = at;
+        o.area = {lat0, lon0, lat1, lon1};
+        sc.objects.push_back(o);
+    }
+
+    // A comma-separated list of exactly n numbers (start_cartesian, start_frenet).
+    std::optional<std::vector<double>> numbers(const Tag& t, const std::string& who, const char* key, size_t n, const char* what) {
+        std::vector<double> out;
+        std::stringstream ss(t.value);
+        std::string item;
+        while (std::getline(ss, item, ',')) {
+            char* end = nullptr;
+            const double v = std::strtod(item.c_str(), &end);
+            while (end && (*end == ' ' || *end == '\t')) ++end;
+            if (end == item.c_str() || *end != '\0' || !std::isfinite(v)) break;
+            out.push_back(v);
+        }
+        if (out.size() != n || ss.good()) {
+            diags_.error("E0911", t.range, who + ": tag '" + key + "' must be " + std::to_string(n) + " numbers: " + what + " ('" +
+                                               t.value + "')");
+            return std::nullopt;
+        }
+        return out;
+    }
+
     std::optional<double> positive(const Tag& t, const std::string& who, const char* key) {
         auto v = number(t, who, key);
         if (v && *v <= 0) {
@@ -349,8 +412,20 @@ private:
         }
         v.vid = static_cast<int>(*id);
         const std::string who = "vehicle " + std::to_string(v.vid) + (v.name.empty() ? std::string() : " ('" + v.name + "')");
-        v.btype = text(tags, "btype").value_or("SDV");
+        v.btype = text(tags, "btype").value_or("");
         for (char& c : v.btype) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+        if (v.btype != "SDV" && v.btype != "TV" && v.btype != "PV" && v.btype != "EV") {
+            // The reference (ScenarioSetup.py) makes a vehicle of any other type, or none, a
+            // neutral one: motionless where it stands, and traffic to everyone else.
+            if (!v.btype.empty()) {
+                diags_.warning("W0903", "gss-unknown-type", tags.at("btype").range,
+                               who + ": vehicle type '" + v.btype + "' is not one GeoScenario knows; as the reference "
+                                     "does, sdv makes it a neutral (motionless) vehicle")
+                    .notes.push_back({{}, "GeoScenario's vehicle types: SDV, TV, PV, EV; a vehicle without btype is neutral"});
+            }
+            v.btype = "NV";
+        }
+        if (auto y = tags.find("yaw"); y != tags.end()) v.yaw = number(y->second, who, "yaw");
         if (auto s = tags.find("speed"); s != tags.end()) {
             v.speed = number(s->second, who, "speed").value_or(0);
             v.has_speed = true;
@@ -361,30 +436,36 @@ private:
         if (auto g = tags.find("goal_ends_simulation"); g != tags.end()) {
             v.goal_ends_simulation = yes_no(g->second, who, "goal_ends_simulation").value_or(false);
         }
-        if (tags.count("start_frenet")) {
-            diags_.error("E0913", tags.at("start_frenet").range, who + ": 'start_frenet' is not supported by sdv")
-                .notes.push_back({{}, "place the vehicle node on its lane instead"});
-        }
         if (v.btype == "SDV") {
+            // An SDV starts at rest (its speed tag is not read), unless its start state is given
+            // in Cartesian (x_vel, x_acc, y_vel, y_acc) or Frenet coordinates (s, s_vel, s_acc,
+            // d, d_vel, d_acc, along the first lanelet of its route).
+            if (auto c = tags.find("start_cartesian"); c != tags.end()) {
+                const auto xs = numbers(c->second, who, "start_cartesian", 4, "x_vel, x_acc, y_vel, y_acc");
+                if (xs) v.start_speed = std::hypot((*xs)[0], (*xs)[2]);
+            }
+            if (auto f = tags.find("start_frenet"); f != tags.end()) {
+                if (auto xs = numbers(f->second, who, "start_frenet", 6, "s, s_vel, s_acc, d, d_vel, d_acc")) {
+                    v.frenet_s = (*xs)[0];
+                    v.frenet_d = (*xs)[3];
+                    v.start_speed = (*xs)[1];
+                    v.start_frenet = true;
+                }
+            }
             auto bt = text(tags, "btree");
             auto route = text(tags, "route");
-            if (!bt) diags_.error("E0911", v.range, who + ": an SDV needs a 'btree' tag");
             if (!route) diags_.error("E0911", v.range, who + ": an SDV needs a 'route' tag");
-            v.btree = bt.value_or("");
+            // Without a btree tag, the reference's standard driver (ScenarioSetup.py).
+            v.btree = bt.value_or("st_standard_driver.btree");
+            v.default_btree = !bt;
             v.route = route.value_or("");
-            if (bt) btree_ranges_[v.vid] = tags.at("btree").range;
+            btree_ranges_[v.vid] = bt ? tags.at("btree").range : v.range;
         } else if (v.btype == "TV") {
             auto tr = text(tags, "trajectory");
             if (!tr) diags_.error("E0911", v.range, who + ": a trajectory vehicle (TV) needs a 'trajectory' tag");
             v.trajectory = tr.value_or("");
         } else if (v.btype == "PV") {
             read_path_agent(tags, v.range, who, "path vehicle (PV)", v.path, v.use_speed_profile);
-        } else if (v.btype != "EV") {  // EV: an external vehicle, driven by a co-simulation client
-            auto& d = diags_.error("E0913", tags.count("btype") ? tags.at("btype").range : v.range,
-                                   who + ": vehicle type '" + v.btype + "' is not supported by sdv");
-            d.notes.push_back({{}, "supported: SDV (simulated driver), TV (trajectory vehicle), PV (path vehicle) and EV "
-                                   "(external vehicle)"});
-            return;
         }
         sc.vehicles.push_back(v);
     }
@@ -462,11 +543,12 @@ private:
         d.btype = text(tags, "btype").value_or("PP");
         for (char& c : d.btype) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
         if (d.btype != "SP" && d.btype != "TP" && d.btype != "PP") {
-            auto& e = diags_.error("E0913", tags.count("btype") ? tags.at("btype").range : d.range,
-                                   who + ": pedestrian type '" + d.btype + "' is not supported by sdv");
-            e.notes.push_back({{}, "supported: SP (simulated pedestrian), TP (trajectory pedestrian) and PP (path "
-                                   "pedestrian, without btype)"});
-            return;
+            // The reference (ScenarioSetup.py) takes any other type as a path pedestrian.
+            auto& e = diags_.warning("W0903", "gss-unknown-type", tags.at("btype").range,
+                                     who + ": pedestrian type '" + d.btype + "' is not one GeoScenario knows; "
+                                           "as the reference does, sdv makes it a path pedestrian (PP)");
+            e.notes.push_back({{}, "GeoScenario's pedestrian types: SP (simulated), TP (trajectory), PP (path)"});
+            d.btype = "PP";
         }
         if (auto l = tags.find("length"); l != tags.end()) d.length = positive(l->second, who, "length").value_or(d.length);
         if (auto w = tags.find("width"); w != tags.end()) d.width = positive(w->second, who, "width").value_or(d.width);
@@ -569,6 +651,15 @@ private:
     std::string_view text_;
     diag::DiagnosticEngine& diags_;
 };
+
+// A GeoScenario yaw (degrees, clockwise: follow.gs.osm's 310 faces north-east) as a heading
+// (degrees, counter-clockwise from east) in (-180, 180].
+double heading_of_yaw(double yaw) {
+    double h = std::fmod(-yaw, 360.0);
+    if (h <= -180) h += 360;
+    if (h > 180) h -= 360;
+    return h;
+}
 
 std::string relative_to(const fs::path& p, const std::string& dir) {
     std::error_code ec;
@@ -717,6 +808,34 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
         return lanes;
     };
 
+    // start_frenet: s along the route's first lanelet (the one the vehicle's node is on), and
+    // on along the route past its end; d across it (left positive). nullopt: reported.
+    auto frenet_start = [&](const GsVehicle& v, const std::vector<GeoPoint>& route) -> std::optional<std::string> {
+        if (!map_net) map_net = road::load_lanelet2(*map, origin);
+        if (!map_net->errors.empty() || !map_net->network) return std::nullopt;  // reported when the scenario runs
+        const road::RoadNetwork& net = *map_net->network;
+        const road::Vec2 p = road::project(origin, v.at.lat, v.at.lon);
+        const road::Vec2 q = road::project(origin, route.front().lat, route.front().lon);
+        const road::Vec2 g = road::project(origin, route.back().lat, route.back().lon);
+        const road::Vec2 prev = road::project(origin, (route.size() >= 2 ? route[route.size() - 2] : v.at).lat,
+                                                (route.size() >= 2 ? route[route.size() - 2] : v.at).lon);
+        const auto loc = net.locate(p, std::atan2(q.y - p.y, q.x - p.x));
+        const auto goal = net.locate(g, std::atan2(g.y - prev.y, g.x - prev.x));
+        if (loc.lane == road::kNoLane) {
+            diags.error("E0911", reader.btree_ranges_[v.vid], "vehicle " + std::to_string(v.vid) +
+                                                                  ": start_frenet is along the lanelet of the vehicle's node, and it is on none");
+            return std::nullopt;
+        }
+        road::LaneId lane = loc.lane;
+        double s = v.frenet_s;
+        const auto steps = goal.lane != road::kNoLane ? road::shortest_route(net, lane, goal.lane).steps : std::vector<road::RouteStep>{};
+        for (size_t i = 1; s > net.reference(lane).length() && i < steps.size(); ++i) {
+            s -= net.reference(lane).length();
+            lane = steps[i].lane;
+        }
+        return "lane " + quoted(net.lane(lane).name) + " at " + fixed(s, 3) + " m offset " + fixed(v.frenet_d, 3) + " m";
+    };
+
     const std::string stem = fs::path(path).filename().string().substr(0, fs::path(path).filename().string().find('.'));
     const std::string scen = ident(stem, "scenario");
     std::ostringstream out;
@@ -770,8 +889,16 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
             const GeoPoint& goal = route.back();
             const GeoPoint& from = route.size() >= 2 ? route[route.size() - 2] : v.at;
             out << "    vehicle " << name << ": sdv {\n";
-            out << "        start at " << xy(v.at) << " heading " << heading(route.size() >= 2 ? route[0] : v.at, route.size() >= 2 ? route[1] : goal) << "\n";
-            out << "        speed " << fixed(v.speed, 3) << " m/s\n";
+            if (v.default_btree) out << "        # no btree tag: the reference's default, st_standard_driver.btree\n";
+            if (v.has_speed && !v.start_speed) out << "        # its speed tag is not read: the reference's SDV starts at rest\n";
+            std::optional<std::string> frenet;
+            if (v.start_frenet) frenet = frenet_start(v, route);
+            if (frenet) {
+                out << "        # start_frenet: along the first lanelet of its route\n        start " << *frenet << "\n";
+            } else {
+                out << "        start at " << xy(v.at) << " heading " << heading(route.size() >= 2 ? route[0] : v.at, route.size() >= 2 ? route[1] : goal) << "\n";
+            }
+            out << "        speed " << fixed(v.start_speed.value_or(0), 3) << " m/s\n";
             if (v.length != 4.5) out << "        length " << fixed(v.length, 3) << " m\n";
             if (v.width != 1.8) out << "        width " << fixed(v.width, 3) << " m\n";
             if (const auto via = via_lanes(route); !via.empty()) {
@@ -791,6 +918,15 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
             if (v.width != 1.8) out << "        width " << fixed(v.width, 3) << " m\n";
             write_path(sc->paths.at(v.path), v.use_speed_profile);
             out << "    }\n";
+        } else if (v.btype == "NV") {
+            // Neutral: where it stands, facing -yaw (else along its lane), for good.
+            out << "    vehicle " << name << ": static {\n";
+            out << "        start at " << xy(v.at);
+            if (v.yaw) out << " heading " << fixed(heading_of_yaw(*v.yaw), 2) << " deg";
+            out << "\n";
+            if (v.length != 4.5) out << "        length " << fixed(v.length, 3) << " m\n";
+            if (v.width != 1.8) out << "        width " << fixed(v.width, 3) << " m\n";
+            out << "    }\n";
         } else if (v.btype == "EV") {
             // Where it starts; from then on its co-simulation client sets its state.
             out << "    vehicle " << name << ": external {\n";
@@ -807,6 +943,14 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
             write_trajectory(tn);
             out << "    }\n";
         }
+    }
+    if (sc->egostart) {
+        // The reference's external vehicle for a client to drive (vid 99, 'Ego'); sdv starts it
+        // at the egostart node, where the reference's waits at the origin for its client.
+        out << "    # egostart: the ego, driven by a co-simulation client (sdv run --cosim ...)\n";
+        out << "    ego v99: external {\n        start at " << xy(*sc->egostart);
+        if (sc->ego_orientation) out << " heading " << fixed(heading_of_yaw(*sc->ego_orientation), 2) << " deg";
+        out << "\n    }\n";
     }
     // Pedestrians are p<pid>, as the reference names them in its outputs.
     for (const auto& d : sc->pedestrians) {
@@ -840,8 +984,18 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
         if (vehicle_like) name = "o_" + name;
         while (object_names.count(name)) name += "_";
         object_names.insert(name);
-        out << "    object " << name << " {\n        start at " << xy(o.at) << "\n        length " << fixed(o.length, 3)
-            << " m\n        width " << fixed(o.width, 3) << " m\n    }\n";
+        double length = o.length, width = o.width;
+        std::string facing;
+        if (o.area) {
+            // An area: the box of its extent, east-west by north-south.
+            const auto& a = *o.area;
+            const road::Vec2 p0 = road::project(origin, a[0], a[1]), p1 = road::project(origin, a[2], a[3]);
+            length = std::max(0.1, std::fabs(p1.x - p0.x));
+            width = std::max(0.1, std::fabs(p1.y - p0.y));
+            facing = " heading 0 deg";
+        }
+        out << "    object " << name << " {\n        start at " << xy(o.at) << facing << "\n        length " << fixed(length, 3)
+            << " m\n        width " << fixed(width, 3) << " m\n    }\n";
     }
     for (const auto& l : sc->lights) {
         out << "    light " << l.name << " {";
@@ -855,6 +1009,7 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
     for (const auto& g : goal_vehicles.empty() ? all_sdv_goals : goal_vehicles) out << "    expect reached_goal(" << g << ")\n";
     if (!goal_vehicles.empty()) out << "    expect not timeout()\n";
     out << "}\n";
+    if (diags.error_count() > before) return std::nullopt;
     std::vector<std::string> files = lib.files();
     return Converted{out.str(), files};
 }

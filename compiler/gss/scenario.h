@@ -4,6 +4,7 @@
 // compiles that text like any .sdv file; `sdv convert` writes it out.
 #pragma once
 
+#include <array>
 #include <map>
 #include <optional>
 #include <string>
@@ -22,7 +23,7 @@ struct GeoPoint {
 struct GsVehicle {
     int vid = 0;
     std::string name;
-    std::string btype;  // SDV, TV, PV, EV
+    std::string btype;  // SDV, TV, PV, EV; NV: neutral (no or another btype), motionless
     std::string btree;  // .btree file name (SDV)
     std::string route;  // route name (SDV)
     std::string trajectory;  // trajectory name (TV)
@@ -32,6 +33,11 @@ struct GsVehicle {
     bool has_speed = false;
     double length = 4.5, width = 1.8;
     bool goal_ends_simulation = false;
+    std::optional<double> yaw;  // degrees, clockwise: the heading is -yaw
+    bool default_btree = false;  // SDV without btree: the reference's st_standard_driver.btree
+    std::optional<double> start_speed;  // SDV: from start_cartesian or start_frenet (else at rest)
+    bool start_frenet = false;          // SDV: start at frenet_s, frenet_d on its route's first lanelet
+    double frenet_s = 0, frenet_d = 0;
     GeoPoint at;
     diag::SourceRange range;
 };
@@ -79,6 +85,7 @@ struct GsObject {
     std::string name;
     GeoPoint at;
     double length = 0.5, width = 0.5;  // GeoScenario objects are points: a 0.5 m square
+    std::optional<std::array<double, 4>> area;  // a way: its extent (lat0, lon0, lat1, lon1)
     diag::SourceRange range;
 };
 
@@ -99,6 +106,8 @@ struct GsScenario {
     std::map<std::string, GeoPoint> locations;  // gs=location nodes, by name
     std::vector<GsLight> lights;
     std::vector<GsObject> objects;
+    std::optional<GeoPoint> egostart;       // the reference's external vehicle 99, 'Ego'
+    std::optional<double> ego_orientation;  // degrees, as a vehicle's yaw
 };
 
 // Reads and validates a scenario already in `sm`. nullopt after errors (E0910–E0913).

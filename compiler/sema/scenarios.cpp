@@ -236,6 +236,7 @@ ir::Vehicle Checker::check_vehicle(const ast::VehicleDecl& v, ScenarioCtx& ctx,
     out.length = num(set["length"], Dim::length, 0, v.is_pedestrian ? 2 : 30, true, v.is_pedestrian ? 0.5 : 4.5);
     out.width = num(set["width"], Dim::length, 0, v.is_pedestrian ? 2 : 5, true, v.is_pedestrian ? 0.5 : 1.8);
     if (v.is_object) {
+        out.object = true;
         out.length = num(set["length"], Dim::length, 0, 100, true, 4.5);
     }
     for (size_t i = 1; i < v.starts.size(); ++i) {

@@ -423,7 +423,7 @@ std::vector<ConditionDef> build_conditions() {
         {choice("lane", kLanes3, 1, "which lane"),
          qty("distance", Dim::length, DefaultValue{30}, 0, kMaxDistance, "look-ahead distance"),
          opt_qty("time_gap", Dim::time, 0, 1e4, "or: look-ahead time at own speed"),
-         boolean("objects", true, "count static objects too (GeoScenario's lane occupancy counts vehicles only)")});
+         boolean("objects", true, "count objects (`object`) too; a static vehicle (a parked car) always counts, as in GeoScenario, whose lane occupancy holds vehicles only")});
     add("can_lane_change", ConditionKind::can_lane_change,
         "the target lane exists, runs the same way, and has no vehicle whose bumper gap to the driver (ahead or behind, along the lane) is under gap",
         {choice("lane", {"left", "right"}, std::nullopt, "target lane"),

@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -55,7 +56,11 @@ std::string violations_json(const ir::Program& p, int scenario, const sim::RunRe
         by_vid[vid_of(sc.vehicles[i], i)] = nlohmann::ordered_json::object();
         index_of[static_cast<int>(i)] = i;
     }
-    auto tick_of = [&](double t) { return std::to_string(static_cast<long long>(std::floor(t * sc.planning_rate + 1e-9))); };
+    // The tick key: the reference's planner tick in progress at t (its ticks k at k / rate from
+    // 0): a 20 s timeout at 5 Hz is tick 99, the last one that ran.
+    auto tick_of = [&](double t) {
+        return std::to_string(std::max(0LL, static_cast<long long>(std::ceil(t * sc.planning_rate - 1e-9)) - 1));
+    };
     auto add = [&](int vehicle, double t, const std::string& cls, const std::string& message) {
         const auto& v = sc.vehicles.at(static_cast<size_t>(vehicle));
         if (!is_sdv(v)) return;

@@ -162,6 +162,9 @@ struct Vehicle {
     std::string name;
     VehicleKind kind = VehicleKind::sdv;
     bool pedestrian = false;
+    // Declared `object` (an obstacle: a cone, debris), not `vehicle NAME: static` (a parked
+    // car, which drivers' conditions count as traffic); both are static_object.
+    bool object = false;
     bool is_ego = false;
     double length = 4.5;
     double width = 1.8;

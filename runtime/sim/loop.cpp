@@ -35,6 +35,7 @@ void take_snapshot(World& w, double t) {
                          lateral_to_go(a, t)};
         w.snapshot[i].stopped_line = a.stopped_line;
         w.snapshot[i].stopped_line_since = a.stopped_line_since;
+        w.snapshot[i].is_object = a.v->object;
         if (a.walker) {
             w.snapshot[i].intent = true;
             w.snapshot[i].crossing_at = a.walker->phase == Walker::Phase::approaching ? a.walker->crosswalk : -1;

@@ -86,7 +86,7 @@ const Seen* View::nearest(int band, int where, bool objects) const {
     const Seen* best = nullptr;
     double best_ds = INFINITY;
     for (const Seen& s : seen) {
-        if (!objects && w_->snapshot[static_cast<size_t>(s.index)].is_static) continue;
+        if (!objects && w_->snapshot[static_cast<size_t>(s.index)].is_object) continue;
         if (band_of(s.f.d) != band) continue;
         const double ds = s.f.s - self.s;
         const double half = 0.5 * (s.length + own_length_);

@@ -65,6 +65,7 @@ struct Snap {
     bool intent = false;
     LaneId stopped_line = kNoLane;  // the lane at whose stop line it last came to a stop
     double stopped_line_since = 0;  // when it first came to rest there
+    bool is_object = false;         // an obstacle (`object`), not a parked vehicle
 };
 
 // One planning cycle as the decision trace shows it (kept only with RunOptions::trace).
