@@ -603,10 +603,11 @@ const std::vector<CondMap>& condition_map() {
          [](Args& a, Values& v, CondOut& o) {
              o.name = "sim_time";
              if (const auto* t = a.take({"t"})) {
-                 // An exact time, accepted up to one planning cycle late.
+                 // An exact time, accepted up to one planning cycle late (the reference's 5 Hz, at
+                 // which converted scenarios run).
                  if (auto n = v.number(*t)) {
                      o.args.push_back({"after", with_unit(*n, "s")});
-                     o.args.push_back({"before", with_unit(*n + 1.0 / 3.0, "s")});
+                     o.args.push_back({"before", with_unit(*n + 0.2, "s")});
                  }
              }
              if (const auto* t = a.take({"tmin"})) opt(o.args, "after", v.quantity(*t, "s"));
@@ -722,7 +723,10 @@ const std::vector<CondMap>& condition_map() {
              if (const auto* d = a.take({"distance"})) opt(o.args, "distance", v.quantity(*d, "m"));
          }},
         {"aws_yielding", {}, [](Args&, Values&, CondOut& o) {
+             // The reference's driver, after 5 s at the line, goes out of turn with probability
+             // 0.05 per planning cycle (BTreeConditions.aws_yielding).
              o.name = "all_way_stop_turn";
+             o.args = {{"impatient_after", "5 s"}, {"impatient_chance", "0.05"}};
              o.negate = true;
          }},
         {"traffic_light_state", {"color", "threshold"},

@@ -463,8 +463,13 @@ std::vector<ConditionDef> build_conditions() {
         "distance)",
         {qty("distance", Dim::length, DefaultValue{0}, 0, 1000, "margin before the junction")});
     add("all_way_stop_turn", ConditionKind::all_way_stop_turn,
-        "at an all-way stop, it is own turn (first come, first served; ties by vehicle order)",
-        {});
+        "at an all-way stop, it is own turn (first come, first served; ties by vehicle order); an "
+        "impatient driver, waiting at the line longer than `impatient_after`, takes the turn out of "
+        "order with probability `impatient_chance` per planning cycle (never while another pulls away "
+        "or the junction is occupied; GeoScenario's aws_yielding: 5 s, 0.05)",
+        {qty("impatient_after", Dim::time, DefaultValue{0}, 0, 3600, "waiting this long makes it impatient (0: never)"),
+         qty("impatient_chance", Dim::none, DefaultValue{0}, 0, 1,
+             "then the chance per planning cycle that it goes out of turn (seeded: reproducible)")});
     add("out_of_route", ConditionKind::out_of_route,
         "own lane is not on the route to the goal (routes are re-planned as the vehicle moves, so "
         "this holds only while no route from the current lane exists)",

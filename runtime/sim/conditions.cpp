@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "runtime/catalog/catalog.h"
+#include "runtime/planner/sampling.h"
 #include "runtime/sim/leaves.h"
 #include "runtime/sim/pedestrian.h"
 
@@ -220,11 +221,13 @@ bool intersection_occupied(Leaves& l, const ir::Node& n, int32_t) {
 // First come, first served among vehicles that came to rest at their all-way-stop lines, by
 // when each first came to rest there (re-positioning up to the line keeps its place); ties by
 // vehicle order. The junction must be clear, and no one who stopped at its line may be pulling
-// away from it: that one has the turn until it is in the junction (else two go at once).
-bool all_way_stop_turn(Leaves& l, const ir::Node&, int32_t) {
+// away from it: that one has the turn until it is in the junction (else two go at once). An
+// impatient driver may go out of turn (a draw per planning cycle, keyed by seed, vehicle, cycle).
+bool all_way_stop_turn(Leaves& l, const ir::Node& n, int32_t) {
     const Snap& m = snap(l, l.a.index);
     if (m.stopped_since < 0) return false;
     const double mine = m.stopped_line == m.lane ? m.stopped_line_since : m.stopped_since;
+    bool out_of_turn = false;
     for (const Seen& s : l.view.seen) {
         const Snap& o = snap(l, s.index);
         if (o.lane == kNoLane || s.dist >= 40) continue;
@@ -232,9 +235,13 @@ bool all_way_stop_turn(Leaves& l, const ir::Node&, int32_t) {
         if (ol.in_junction) return false;
         if (!ol.all_way_stop || o.stopped_line != o.lane) continue;
         if (o.stopped_since < 0) return false;  // pulling away: its turn
-        if (o.stopped_line_since < mine || (o.stopped_line_since == mine && s.index < l.a.index)) return false;
+        out_of_turn = out_of_turn || o.stopped_line_since < mine || (o.stopped_line_since == mine && s.index < l.a.index);
     }
-    return true;
+    if (!out_of_turn) return true;
+    const double after = l.num(n, "impatient_after");
+    if (after <= 0 || l.t0 - mine <= after) return false;
+    planner::RandomStream rng(l.w.seed, static_cast<uint32_t>(l.a.index), 0x40000000u | l.a.driver->plan_count);
+    return rng.uniform() < l.num(n, "impatient_chance");
 }
 
 bool out_of_route(Leaves& l, const ir::Node&, int32_t) {
