@@ -526,6 +526,11 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
     for (const Arg& a : cm.fixed) out.push_back(a);
     // A cut-in needs a target vehicle; the reference also accepts only a target lane, where the
     // vehicle cut in front of is the one beside in that lane.
+    // The reference's efficiency cost (CostFunctions.effic_cost), for its configurations with a
+    // velocity: rewards a higher mean speed.
+    if (std::string(cm.maneuver) == "keep_velocity" || std::string(cm.maneuver) == "reverse") {
+        out.push_back({"efficiency", "reference"});
+    }
     if (std::string(cm.maneuver) == "cut_in") {
         // The reference's delta_s counts beyond two own lengths ahead of the target's centre.
         out.push_back({"gap_from", "reference"});

@@ -138,6 +138,12 @@ std::vector<ParamDef> common_params(double max_long_acc) {
     for (const auto& w : weights) {
         ps.push_back(sets(w.field, in_group(qty(w.name, Dim::none, DefaultValue{1}, 0, 1e6, w.doc), "cost")));
     }
+    ps.push_back(sets(ConfigField::efficiency,
+                      in_group(choice("efficiency", {"deviation", "reference"}, 0,
+                                      "efficiency cost: deviation = of the mean speed from the target speed; reference = "
+                                      "GeoScenario's effic_cost, logistic(2 (T - v) / v) of the mean speed v and the nominal "
+                                      "duration T, which falls as the mean speed rises"),
+                               "cost")));
     ps.push_back(sets(ConfigField::w_proximity, in_group(
         qty("w_proximity", Dim::none, DefaultValue{10}, 0, 1e6, "weight of the proximity to "
                                                                  "other vehicles and obstacles"),

@@ -47,7 +47,7 @@ enum class ConfigField {
     max_long_jerk, max_lat_jerk, max_long_acc, max_lat_acc, collision, off_lane, direction,
     // common: cost
     w_time, w_efficiency, w_lane_offset, w_long_jerk, w_lat_jerk, w_long_acc, w_lat_acc,
-    w_proximity, expected_offset, expected_acc, expected_jerk,
+    w_proximity, expected_offset, expected_acc, expected_jerk, efficiency,
     // common: lateral
     lat_offset, eval_points,
     // kind-specific

@@ -26,6 +26,10 @@ bool set_field(ManeuverConfig& c, catalog::ConfigField field, const Sampled& num
         case F::direction: k.direction = v != 0; return true;
         case F::w_time: k.w_time = v; return true;
         case F::w_efficiency: k.w_efficiency = v; return true;
+        case F::efficiency:
+            if (choice < 0 || choice > 1) return false;
+            k.efficiency_reference = choice == 1;
+            return true;
         case F::w_lane_offset: k.w_lane_offset = v; return true;
         case F::w_long_jerk: k.w_long_jerk = v; return true;
         case F::w_lat_jerk: k.w_lat_jerk = v; return true;
@@ -111,6 +115,7 @@ std::string describe(const ManeuverConfig& c) {
     num("direction", k.direction);
     num("w_time", k.w_time);
     num("w_efficiency", k.w_efficiency);
+    if (k.efficiency_reference) num("efficiency_reference", 1);
     num("w_lane_offset", k.w_lane_offset);
     num("w_long_jerk", k.w_long_jerk);
     num("w_lat_jerk", k.w_lat_jerk);

@@ -22,6 +22,9 @@ struct CommonConfig {
     bool collision = true, off_lane = true, direction = true;
     double w_time = 1, w_efficiency = 1, w_lane_offset = 1, w_long_jerk = 1, w_lat_jerk = 1,
            w_long_acc = 1, w_lat_acc = 1, w_proximity = 10;
+    // The efficiency cost: the mean speed's deviation from the target speed (false), or
+    // GeoScenario's, which falls as the mean speed rises (true; see planner.cpp).
+    bool efficiency_reference = false;
     double expected_offset = 0.5, expected_acc = 1, expected_jerk = 2;
     Sampled lat_offset = Sampled::single(0.0);
     int eval_points = 10;

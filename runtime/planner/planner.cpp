@@ -25,7 +25,8 @@
 //   current lane; not for lane_change / cut_in), direction (ṡ < −0.01 m/s; not for reverse).
 // Cost = Σ wᵢ · logistic(xᵢ), logistic(x) = 2 / (1 + e^−x) − 1, with
 //   time        |T − T_nominal| (s)
-//   efficiency  |mean speed − target speed| (m/s), mean speed = (s(T) − s(0)) / T
+//   efficiency  |mean speed − target speed| (m/s), mean speed = (s(T) − s(0)) / T; with
+//               `efficiency = reference` GeoScenario's 2 (T_nominal − mean speed) / mean speed
 //   lane offset mean |d − lat| / expected_offset
 //   jerk        RMS of s⃛ (resp. d⃛) / expected_jerk
 //   acc         RMS of s̈ (resp. d̈) / expected_acc
@@ -94,6 +95,14 @@ double clearance(const Footprint& a, double s, double d, const Footprint& b, dou
     return std::sqrt(min_d2) - a.radius - b.radius - kCollisionMargin;
 }
 
+// The least clearance a plan may come to, given the clearance at its start: 0, unless the start
+// is within the margin only (the circles clear, the margin not): then the margin gives way and
+// only the circles may not overlap. Circles that already overlap (a contact) keep 0: moving
+// through the other is no way out.
+double margin_floor(double start_clearance) {
+    return start_clearance < 0 && start_clearance >= -kCollisionMargin ? -kCollisionMargin : 0.0;
+}
+
 }  // namespace
 
 const char* to_string(RejectCause cause) {
@@ -141,6 +150,7 @@ Trajectory plan_fallback(const FrenetState& start, double max_decel) {
 bool stays_clear(const Trajectory& tr, double from, double horizon, const PlanRequest& req) {
     const Footprint own = footprint(req.length_m, req.width_m);
     constexpr int kPoints = 13;
+    const FrenetState f0 = tr.at(from);
     for (int e = 0; e < kPoints; ++e) {
         const double t = horizon * e / (kPoints - 1);
         const FrenetState f = tr.at(from + t);
@@ -151,7 +161,10 @@ bool stays_clear(const Trajectory& tr, double from, double horizon, const PlanRe
             if (standing) continue;
             const double os = o.state.s + o.state.s_d * t, od = o.d_at(t);
             if (std::fabs(os - f.s) > 0.5 * (req.length_m + o.length_m) + 6.0 || std::fabs(od - f.d) > 6.0) continue;
-            if (clearance(own, f.s, f.d, footprint(o.length_m, o.width_m), os, od) < 0) return false;
+            // As in plan(): within the margin already at the start, only the circles count.
+            const Footprint of = footprint(o.length_m, o.width_m);
+            const double floor = margin_floor(clearance(own, f0.s, f0.d, of, o.state.s, o.d_at(0)));
+            if (clearance(own, f.s, f.d, of, os, od) < floor) return false;
         }
     }
     return true;
@@ -225,11 +238,17 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
     // Obstacle footprints once per plan, not per candidate and point (reused buffer).
     thread_local std::vector<Footprint> footprints;
     thread_local std::vector<char> vetoes;
+    // An obstacle already within the margin at the start (passing close beside it) rejects only
+    // candidates whose circles touch it: else every candidate is rejected while the vehicle
+    // passes, and it brakes beside the obstacle it is leaving behind.
+    thread_local std::vector<double> start_clear;
     footprints.clear();
     vetoes.clear();
+    start_clear.clear();
     for (const Obstacle& o : req.obstacles) {
         footprints.push_back(footprint(o.length_m, o.width_m));
         vetoes.push_back(is_follower(o, st, req.length_m, req.width_m) ? 0 : 1);
+        start_clear.push_back(margin_floor(clearance(own, st.s, st.d, footprints.back(), o.state.s, o.d_at(0))));
     }
     const int n_eval = std::max(2, k.eval_points);
 
@@ -371,7 +390,7 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
                             return std::fabs(o.state.s_d) + std::fabs(o.state.d_d) > kStandingSpeed &&
                                    std::fabs(sp.v(t)) < kStandingSpeed && std::fabs(dp.v(t)) < kStandingSpeed;
                         };
-                        if (k.collision && clear < 0 && vetoes[oi] && !standing_hit()) {
+                        if (k.collision && clear < start_clear[oi] && vetoes[oi] && !standing_hit()) {
                             cause = RejectCause::collision;
                             break;
                         }
@@ -398,7 +417,13 @@ PlanResult plan(const PlanRequest& req, PlanWorkspace& ws) {
                 double v_goal = target_v;
                 if (req.speed_limit_mps > 0 && cfg.kind == ManeuverKind::keep_velocity) v_goal = std::min(v_goal, req.speed_limit_mps);
                 const double mean_v = (sp.x(T) - sp.x(0)) / T;
-                c.efficiency = k.w_efficiency * logistic(cfg.kind == ManeuverKind::stop ? 0.0 : std::fabs(mean_v - v_goal));
+                if (k.efficiency_reference) {
+                    // GeoScenario's effic_cost, called with the nominal duration where a target
+                    // speed is meant: it falls as the mean speed rises, whatever the target.
+                    c.efficiency = cfg.kind == ManeuverKind::stop || mean_v == 0 ? 0.0 : k.w_efficiency * logistic(2 * (nominal_T - mean_v) / mean_v);
+                } else {
+                    c.efficiency = k.w_efficiency * logistic(cfg.kind == ManeuverKind::stop ? 0.0 : std::fabs(mean_v - v_goal));
+                }
                 c.lane_offset = k.w_lane_offset * logistic(sum_off / n / k.expected_offset);
                 c.long_jerk = k.w_long_jerk * logistic(std::sqrt(sum_lj2 / n) / k.expected_jerk);
                 c.lat_jerk = k.w_lat_jerk * logistic(std::sqrt(sum_dj2 / n) / k.expected_jerk);

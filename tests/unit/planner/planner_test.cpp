@@ -330,3 +330,31 @@ TEST_CASE("the cheapest feasible candidate wins; the record adds up") {
     CHECK(r.trajectory.at(r.trajectory.duration).s_d == doctest::Approx(14));
     CHECK(r.record.winner_cost.total >= 0);
 }
+
+TEST_CASE("passing within the margin of a parked vehicle: driving on is feasible, coming closer is not") {
+    // A 20 m parked truck beside the lane, its centre 2.9 m to the right of the car's: the
+    // circles (1.17 m and 1.54 m) clear, the 0.3 m margin does not. Candidates that keep or open
+    // the gap are feasible, so the car drives past instead of braking beside it; a lateral target
+    // towards the truck is still rejected.
+    auto cfg = default_config(ManeuverKind::keep_velocity);
+    cfg.common.off_lane = false;
+    PlanRequest req;
+    req.current_lane = lane_at(0);
+    req.start = {0, 5, 0, 0, 0, 0};
+    const Obstacle truck{1, {10, 0, 0, -2.9, 0, 0}, 20, 1.8, true};
+    for (double lat : {0.0, 0.3, -0.6}) {
+        CAPTURE(lat);
+        cfg.common.lat_offset = Sampled::single(lat);
+        auto r = run(cfg, req, {truck});
+        if (lat >= 0) {
+            CHECK(!r.record.fallback);
+            CHECK(r.trajectory.at(1.0).s_d > 4);
+        } else {
+            CHECK(r.record.fallback);
+        }
+    }
+    // The truck 2.2 m across: the circles overlap (a contact): no candidate gets out that way.
+    cfg.common.lat_offset = Sampled::single(0.0);
+    auto r = run(cfg, req, {{1, {10, 0, 0, -2.2, 0, 0}, 20, 1.8, true}});
+    CHECK(r.record.fallback);
+}
