@@ -951,6 +951,28 @@ std::optional<std::string> BtreeLibrary::find(const std::string& name) const {
     return std::nullopt;
 }
 
+std::optional<std::string> BtreeLibrary::call_with_config(const std::string& name, const std::string& config,
+                                                          const std::string& who, diag::SourceRange where, BtAgent agent) {
+    auto tree = add_named(name, where, agent);
+    if (!tree) return std::nullopt;
+    if (config.find_first_not_of(" \t;") == std::string::npos) return *tree + "()";
+    // The reference splits btconfig at ';' into NODE=config items (BTreeInterpreter
+    // .reconfigure_nodes): read as the overrides of a subtree reference.
+    std::string items = config;
+    std::replace(items.begin(), items.end(), ';', ',');
+    while (!items.empty() && (items.back() == ',' || items.back() == ' ')) items.pop_back();
+    const std::string stem = fs::path(name).extension() == ".btree" ? fs::path(name).stem().string() : name;
+    const diag::FileId f = sm_.add_file(who, "behaviortree btconfig:\n    ->\n        subtree " + stem + "(" + items + ")\n");
+    const size_t before = diags_.error_count();
+    auto parsed = parse_btree(f, sm_, diags_);
+    if (!parsed || parsed->trees.empty() || parsed->trees[0].root.children.empty()) return std::nullopt;
+    std::string call = lower_subtree(parsed->trees[0].root.children[0], agent);
+    if (diags_.error_count() > before || call.rfind("subtree ", 0) != 0) return std::nullopt;
+    call = call.substr(8);
+    while (!call.empty() && call.back() == '\n') call.pop_back();
+    return call;
+}
+
 std::optional<std::string> BtreeLibrary::add_file(const std::string& path, diag::SourceRange where, BtAgent agent) {
     const Lowered* l = lower_file(path, where, agent);
     if (l == nullptr) return std::nullopt;

@@ -47,6 +47,12 @@ public:
     std::optional<std::string> add_named(const std::string& name, diag::SourceRange where,
                                          BtAgent agent = BtAgent::unknown);
 
+    // The call of the tree `name` (as for add_named) with a GeoScenario agent's `btconfig`
+    // overrides ("NODE=MConfigClass(...);NODE2=..."), as .sdv text: "tree(node.field = ...)",
+    // the overrides replacing each node's whole configuration as subtree overrides do. The
+    // overrides are read as a source file named `who` (its diagnostics point there).
+    std::optional<std::string> call_with_config(const std::string& name, const std::string& config, const std::string& who,
+                                                diag::SourceRange where, BtAgent agent);
     // Whose tree the lowered tree `name` (as add_* returned it) is.
     BtAgent agent(const std::string& name) const;
 

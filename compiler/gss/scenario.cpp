@@ -457,6 +457,7 @@ private:
             if (!route) diags_.error("E0911", v.range, who + ": an SDV needs a 'route' tag");
             // Without a btree tag, the reference's standard driver (ScenarioSetup.py).
             v.btree = bt.value_or("st_standard_driver.btree");
+            v.btconfig = text(tags, "btconfig").value_or("");
             v.default_btree = !bt;
             v.route = route.value_or("");
             btree_ranges_[v.vid] = bt ? tags.at("btree").range : v.range;
@@ -751,10 +752,16 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
     std::vector<std::string> search = options.btree_path;
     search.push_back(fs::absolute(path, ec).parent_path().string());
     BtreeLibrary lib(search, sm, diags);
-    std::map<int, std::string> tree_of, ped_tree_of;
+    std::map<int, std::string> tree_of, ped_tree_of, call_of;
     for (const auto& v : sc->vehicles) {
         if (v.btype != "SDV") continue;
         auto name = lib.add_named(v.btree, reader.btree_ranges_[v.vid], BtAgent::vehicle);
+        if (name && !v.btconfig.empty()) {
+            // btconfig: the reference reconfigures the tree's nodes (BTreeInterpreter.reconfigure_nodes).
+            auto call = lib.call_with_config(v.btree, v.btconfig, path + ": vehicle " + std::to_string(v.vid) + " btconfig",
+                                             reader.btree_ranges_[v.vid], BtAgent::vehicle);
+            if (call) call_of[v.vid] = *call;
+        }
         if (name && lib.agent(*name) == BtAgent::pedestrian) {
             diags.error("E0911", reader.btree_ranges_[v.vid], "vehicle " + std::to_string(v.vid) + ": '" + v.btree +
                                                                   "' is a pedestrian's behavior tree")
@@ -907,7 +914,8 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
                 out << "\n";
             }
             out << "        goal at " << xy(goal) << " heading " << heading(from, goal) << (v.goal_ends_simulation ? " ends run" : "") << "\n";
-            out << "        tree " << tree_of.at(v.vid) << "()\n    }\n";
+            if (call_of.count(v.vid)) out << "        # btconfig: " << comment_text(v.btconfig) << "\n";
+            out << "        tree " << (call_of.count(v.vid) ? call_of.at(v.vid) : tree_of.at(v.vid) + "()") << "\n    }\n";
             all_sdv_goals.push_back(name);
             if (v.goal_ends_simulation) goal_vehicles.push_back(name);
         } else if (v.btype == "PV") {

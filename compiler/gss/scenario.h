@@ -35,6 +35,7 @@ struct GsVehicle {
     bool goal_ends_simulation = false;
     std::optional<double> yaw;  // degrees, clockwise: the heading is -yaw
     bool default_btree = false;  // SDV without btree: the reference's st_standard_driver.btree
+    std::string btconfig;        // SDV: overrides of its tree's nodes ("NODE=MConfig(...);...")
     std::optional<double> start_speed;  // SDV: from start_cartesian or start_frenet (else at rest)
     bool start_frenet = false;          // SDV: start at frenet_s, frenet_d on its route's first lanelet
     double frenet_s = 0, frenet_d = 0;
