@@ -131,6 +131,7 @@ vehicleStmt
     | TREE qualName '(' argList? ')'                      # vehTree
     | TRAJECTORY '{' waypoint* '}'                        # vehTrajectory
     | PATH '{' pathPoint* '}'                             # vehPath
+    | MEET ident                                          # vehMeet
     ;
 position
     : laneRef AT value (OFFSET value)?                    # lanePosition
@@ -165,7 +166,7 @@ ident
     | SAMPLES | SCENARIO | TIMEOUT | SEED | RATE | EGO | VEHICLE | OBJECT | LIGHT | EXPECT
     | START | SPEED | LENGTH | WIDTH | GOAL | ROUTE | TRAJECTORY | AT | OFFSET | LANE | AND | OR
     | LEFT | RIGHT | ENDS | RUN | DURING | AFTER | BEFORE | VARY | IN | SAMPLE | COUNT
-    | PEDESTRIAN | PATH | CROSSWALK | ON | SIGNALISED
+    | PEDESTRIAN | PATH | CROSSWALK | ON | SIGNALISED | MEET
     ;
 
 // ---------------------------------------------------------------- lexer
@@ -208,6 +209,7 @@ PATH : 'path' ;
 CROSSWALK : 'crosswalk' ;
 ON : 'on' ;
 SIGNALISED : 'signalised' ;
+MEET : 'meet' ;
 OBJECT : 'object' ;
 LIGHT : 'light' ;
 EXPECT : 'expect' ;

@@ -115,6 +115,7 @@ public:
                         line(2, w.range, "path point " + position(w.position) + (w.speed ? " speed " + value(*w.speed) : ""));
                     }
                 }
+                for (const auto& m : v.meets) line(2, m.range, "meet " + m.text);
             }
             for (const auto& l : s.lights) {
                 line(1, l.range, "light " + l.name.str());

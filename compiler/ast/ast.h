@@ -247,6 +247,7 @@ struct VehicleDecl {
     std::vector<TreeRef> trees;
     std::vector<std::vector<Waypoint>> trajectories;
     std::vector<std::vector<PathPoint>> paths;
+    std::vector<Ident> meets;  // `meet V`: a path agent times its way to meet V (more than one is an error)
     SourceRange range;
 };
 

@@ -249,6 +249,9 @@ public:
             if (v.btype == "TV") check_trajectory(sc, v.trajectory, v.range, who);
             if (v.btype == "PV") check_path(sc, v.path, v.has_speed, v.range, who);
         }
+        for (const auto& [vid, at] : meet_ranges_) {
+            if (!vids.count(vid)) diags_.error("E0912", at, "collision_vehicle_vid: vehicle " + std::to_string(vid) + " is not in the scenario");
+        }
         if (sc.egostart && vids.count(99)) {
             diags_.error("E0911", sc.egostart->range, "egostart: the reference makes it vehicle 99, and vehicle 99 exists");
         }
@@ -466,7 +469,7 @@ private:
             if (!tr) diags_.error("E0911", v.range, who + ": a trajectory vehicle (TV) needs a 'trajectory' tag");
             v.trajectory = tr.value_or("");
         } else if (v.btype == "PV") {
-            read_path_agent(tags, v.range, who, "path vehicle (PV)", v.path, v.use_speed_profile);
+            read_path_agent(tags, v.range, who, "path vehicle (PV)", v.path, v.use_speed_profile, v.meet);
         }
         sc.vehicles.push_back(v);
     }
@@ -568,7 +571,7 @@ private:
             d.trajectory = text(tags, "trajectory").value_or("");
             if (d.trajectory.empty()) diags_.error("E0911", d.range, who + ": a trajectory pedestrian (TP) needs a 'trajectory' tag");
         } else {
-            read_path_agent(tags, d.range, who, "path pedestrian (PP, without btype)", d.path, d.use_speed_profile);
+            read_path_agent(tags, d.range, who, "path pedestrian (PP, without btype)", d.path, d.use_speed_profile, d.meet);
             if (auto s = tags.find("speed"); s != tags.end()) {
                 d.speed = number(s->second, who, "speed");
                 if (d.speed && (*d.speed < 0 || *d.speed > 36)) {
@@ -582,16 +585,21 @@ private:
 
     // The tags of a path agent (PV, PP) besides its speed.
     void read_path_agent(const Tags& tags, diag::SourceRange at, const std::string& who, const std::string& kind,
-                         std::string& path, bool& use_speed_profile) {
+                         std::string& path, bool& use_speed_profile, std::optional<int>& meet) {
         path = text(tags, "path").value_or("");
         if (path.empty()) diags_.error("E0911", at, who + ": a " + kind + " needs a 'path' tag");
         if (auto u = tags.find("usespeedprofile"); u != tags.end()) {
             use_speed_profile = yes_no(u->second, who, "usespeedprofile").value_or(false);
         }
         if (auto c = tags.find("collision_vehicle_vid"); c != tags.end()) {
-            diags_.error("E0913", c->second.range, who + ": 'collision_vehicle_vid' is not supported by sdv")
-                .notes.push_back({{}, "sdv's path agents keep their path's speeds; none times its motion to meet a vehicle "
-                                      "(the reference's ensured collision)"});
+            // The reference's ensured collision: timed to meet that vehicle (`meet v<vid>`).
+            const auto id = number(c->second, who, "collision_vehicle_vid");
+            if (id && (*id != std::floor(*id) || *id < 0 || *id > 1e6)) {
+                diags_.error("E0911", c->second.range, who + ": 'collision_vehicle_vid' must be a vehicle id");
+            } else if (id) {
+                meet = static_cast<int>(*id);
+                meet_ranges_.push_back({*meet, c->second.range});
+            }
         }
     }
 
@@ -646,6 +654,7 @@ private:
 
 public:
     std::map<int, diag::SourceRange> btree_ranges_;
+    std::vector<std::pair<int, diag::SourceRange>> meet_ranges_;  // collision_vehicle_vid tags
 
 private:
     diag::FileId file_;
@@ -860,9 +869,21 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
     // A path agent (PV, PP) moves along its path at the speed of its nodes (agentspeed, km/h),
     // interpolated in the distance travelled, from the first node on (Actor.follow_path); a node
     // without one keeps the speed before it; the first, the agent's speed tag.
-    auto write_path = [&](const std::vector<GsPathNode>& nodes, bool use_speed_profile) {
-        bool accel = false;
-        for (const auto& n : nodes) accel = accel || n.accel;
+    auto write_path = [&](const std::vector<GsPathNode>& nodes, bool use_speed_profile, std::optional<int> meet) {
+        bool accel = false, speeds = false;
+        for (const auto& n : nodes) {
+            accel = accel || n.accel;
+            speeds = speeds || n.speed.has_value();
+        }
+        if (meet) {
+            // collision_vehicle_vid: timed to meet the vehicle, unless its nodes give speeds,
+            // which the reference's follow_path applies after the timing (so they win).
+            if (speeds) {
+                out << "        # collision_vehicle_vid " << *meet << ": its nodes' speeds win over the timing, as in the reference\n";
+            } else {
+                out << "        meet v" << *meet << "\n";
+            }
+        }
         if (use_speed_profile && accel) {
             out << "        # usespeedprofile: the speeds at the nodes (agentspeed) are interpolated along the path;\n"
                 << "        # agentacceleration and timetoacceleration are not read\n";
@@ -924,7 +945,7 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
             if (v.has_speed) out << "        speed " << fixed(v.speed, 3) << " km/h\n";
             if (v.length != 4.5) out << "        length " << fixed(v.length, 3) << " m\n";
             if (v.width != 1.8) out << "        width " << fixed(v.width, 3) << " m\n";
-            write_path(sc->paths.at(v.path), v.use_speed_profile);
+            write_path(sc->paths.at(v.path), v.use_speed_profile, v.meet);
             out << "    }\n";
         } else if (v.btype == "NV") {
             // Neutral: where it stands, facing -yaw (else along its lane), for good.
@@ -980,7 +1001,7 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
         out << "        width " << fixed(d.width, 3) << " m\n";
         if (d.btype == "SP") out << "        tree " << ped_tree_of.at(d.pid) << "()\n";
         if (d.btype == "TP") write_trajectory(sc->trajectories.at(d.trajectory));
-        if (d.btype == "PP") write_path(sc->paths.at(d.path), d.use_speed_profile);
+        if (d.btype == "PP") write_path(sc->paths.at(d.path), d.use_speed_profile, d.meet);
         out << "    }\n";
     }
     std::set<std::string> object_names;

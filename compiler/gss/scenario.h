@@ -29,6 +29,7 @@ struct GsVehicle {
     std::string trajectory;  // trajectory name (TV)
     std::string path;        // path name (PV)
     bool use_speed_profile = false;  // PV: usespeedprofile=yes
+    std::optional<int> meet;         // PV: collision_vehicle_vid, the vehicle it is timed to meet
     double speed = 0;        // SDV, EV: m/s as written; PV: km/h (the reference divides by 3.6)
     bool has_speed = false;
     double length = 4.5, width = 1.8;
@@ -68,6 +69,7 @@ struct GsPedestrian {
     std::string trajectory;   // TP
     std::string path;         // PP
     std::optional<double> speed;  // PP: km/h (an SP's is not read: has_speed says it was given)
+    std::optional<int> meet;      // PP: collision_vehicle_vid
     bool has_speed = false;
     bool use_speed_profile = false;
     double length = 0.6, width = 0.5;  // the reference's PEDESTRIAN_LENGTH, PEDESTRIAN_WIDTH

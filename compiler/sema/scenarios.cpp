@@ -94,6 +94,19 @@ void Checker::check_scenario(const ast::ScenarioDecl& s, ir::Program& program) {
     }
     ctx.ir = &sc;
     for (const auto& v : s.vehicles) sc.vehicles.push_back(check_vehicle(v, ctx, program));
+    // `meet V`: V is another agent of the scenario (the runtime resolves it by name).
+    for (const auto& v : s.vehicles) {
+        for (size_t i = 1; i < v.meets.size(); ++i) error("E0504", v.meets[i].range, "duplicate 'meet' of '" + v.name.text + "'");
+        if (v.meets.empty()) continue;
+        const ast::Ident& m = v.meets[0];
+        auto it = ctx.vehicle_index.find(m.text);
+        if (it == ctx.vehicle_index.end()) {
+            auto* d = error("E0105", m.range, "unknown vehicle '" + m.text + "' in scenario '" + ctx.name + "'");
+            add_suggestion(*d, m.text, ctx.vehicle_names);
+        } else if (m.text == v.name.text) {
+            error("E0105", m.range, "'" + v.name.text + "' cannot meet itself");
+        }
+    }
     check_overlaps(s, sc);
     for (const auto& l : s.lights) check_light(l, ctx);
     for (const auto& e : s.expects) {
@@ -279,8 +292,12 @@ ir::Vehicle Checker::check_vehicle(const ast::VehicleDecl& v, ScenarioCtx& ctx,
     }
     if (out.kind == ir::VehicleKind::path) {
         check_path(v, out, ctx, what);
+        if (!v.meets.empty()) out.meet = v.meets[0].text;
     } else if (!v.paths.empty()) {
         error("E0113", v.paths[0].empty() ? v.name.range : v.paths[0].front().range, "only path agents have a path; " + what + " is " + kind);
+    }
+    if (out.kind != ir::VehicleKind::path && !v.meets.empty()) {
+        error("E0113", v.meets[0].range, "only path agents meet another agent; " + what + " is " + kind);
     }
     if (out.kind == ir::VehicleKind::trajectory) {
         if (v.trajectories.empty() || v.trajectories[0].size() < 2) {

@@ -674,6 +674,8 @@ private:
                     pts.push_back(std::move(pp));
                 }
                 v.paths.push_back(std::move(pts));
+            } else if (auto* s10 = dynamic_cast<SdvParser::VehMeetContext*>(st)) {
+                v.meets.push_back(ident(s10->ident()));
             }
         }
         return v;

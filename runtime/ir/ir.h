@@ -174,6 +174,9 @@ struct Vehicle {
     bool goal_ends_run = false;  // reaching the goal ends the run (GeoScenario's goal_ends_simulation)
     std::vector<std::string> route;  // lane names
     int32_t tree = -1;               // index into Program::instances; sdv only
+    // path: the agent it times its motion to meet (GeoScenario's collision_vehicle_vid): while
+    // that one heads for a point of the path, the speed that reaches the point when it does.
+    std::string meet;
     std::vector<Waypoint> trajectory;  // path: the points, with time < 0 and their speeds
     SourceLoc loc;
 };

@@ -205,6 +205,7 @@ Json program_json(const Program& p) {
             vj["kind"] = kVehicleKinds[static_cast<int>(v.kind)];
             if (v.pedestrian) vj["pedestrian"] = true;
             if (v.object) vj["object"] = true;
+            if (!v.meet.empty()) vj["meet"] = v.meet;
             vj["ego"] = v.is_ego;
             vj["length"] = v.length;
             vj["width"] = v.width;
@@ -614,6 +615,7 @@ public:
             v.kind = static_cast<VehicleKind>(enumeration(field(vj, "kind", vp), kVehicleKinds, vp + ".kind"));
             if (has(vj, "pedestrian")) v.pedestrian = boolean(vj["pedestrian"], vp + ".pedestrian");
             if (has(vj, "object")) v.object = boolean(vj["object"], vp + ".object");
+            if (has(vj, "meet")) v.meet = string(vj["meet"], vp + ".meet");
             if (v.object && v.kind != VehicleKind::static_object) fail(vp + ".object: an object is static");
             if (v.pedestrian && (v.kind == VehicleKind::static_object || v.kind == VehicleKind::external)) {
                 fail(vp + ".kind: a pedestrian is an sdp, path or trajectory agent");

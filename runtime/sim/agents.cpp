@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "runtime/sim/pedestrian.h"
 
@@ -110,6 +111,32 @@ private:
 // Along its path at the speed its points give, interpolated linearly in the distance walked
 // (the reference's PV and PP, Actor.follow_path): each tick the speed at the distance walked so
 // far, then the distance advanced at that speed. At rest at the last point.
+// A path agent meeting another (GeoScenario's ensured collision, Actor.follow_path): where the
+// other's heading crosses the rest of the path, the speed that gets there when the other does at
+// its speed (last tick's snapshot); nullopt while it heads for no point ahead on the path.
+std::optional<double> meeting_speed(const World& w, const Agent& a, size_t k) {
+    if (static_cast<size_t>(a.meet) >= w.snapshot.size()) return std::nullopt;
+    const Snap& o = w.snapshot[static_cast<size_t>(a.meet)];
+    const double speed = std::hypot(o.vx, o.vy);
+    if (!o.active || speed < 0.1) return std::nullopt;
+    const road::Vec2 from{o.x, o.y}, dir{o.vx / speed, o.vy / speed};
+    const auto& pts = a.path_points;
+    for (size_t j = k; j + 1 < pts.size(); ++j) {
+        const road::Vec2 seg = pts[j + 1] - pts[j];
+        const double den = road::cross(dir, seg);
+        if (std::fabs(den) < 1e-12) continue;
+        const road::Vec2 q = pts[j] - from;
+        const double along = road::cross(q, seg) / den;  // along the other's heading
+        const double u = road::cross(q, dir) / den;      // along the segment
+        if (along <= 0 || u < 0 || u > 1) continue;
+        const double remaining = a.path_cum[j] + u * (a.path_cum[j + 1] - a.path_cum[j]) - a.path_s;
+        if (remaining <= 0) continue;
+        const double vmax = a.v->pedestrian ? 10.0 : 100.0;  // the checker's speed limits
+        return std::min(vmax, remaining * speed / along);
+    }
+    return std::nullopt;
+}
+
 class PathModel final : public AgentModel {
 public:
     explicit PathModel(const char* kind) : kind_(kind) {}
@@ -124,7 +151,10 @@ public:
             while (k + 2 < cum.size() && a.path_s > cum[k + 1]) ++k;
             const double span = std::max(1e-9, cum[k + 1] - cum[k]);
             const double f = std::clamp((a.path_s - cum[k]) / span, 0.0, 1.0);
-            const double v = a.path_s >= cum.back() ? 0.0 : speeds[k] + f * (speeds[k + 1] - speeds[k]);
+            double v = a.path_s >= cum.back() ? 0.0 : speeds[k] + f * (speeds[k + 1] - speeds[k]);
+            if (a.meet >= 0 && a.path_s < cum.back()) {
+                if (auto m = meeting_speed(w, a, k)) v = *m;
+            }
             a.path_s = std::min(cum.back(), a.path_s + v * w.dt);
             while (k + 2 < cum.size() && a.path_s > cum[k + 1]) ++k;
             const double seg = std::max(1e-9, cum[k + 1] - cum[k]);

@@ -225,6 +225,12 @@ std::string World::place_walking(Agent& a) {
             a.path_speeds.push_back(speed);
         }
         if (a.path_points.size() < 2 || !(a.path_cum.back() > 0)) return vwhere + ": its path needs two distinct points";
+        if (!a.v->meet.empty()) {
+            for (size_t i = 0; i < scenario.vehicles.size(); ++i) {
+                if (scenario.vehicles[i].name == a.v->meet && static_cast<int>(i) != a.index) a.meet = static_cast<int32_t>(i);
+            }
+            if (a.meet < 0) return vwhere + ": meets '" + a.v->meet + "', which is not another agent of the scenario";
+        }
         p = a.path_points.front();
         const road::Vec2 d = a.path_points[1] - a.path_points[0];
         yaw = std::atan2(d.y, d.x);

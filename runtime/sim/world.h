@@ -180,6 +180,7 @@ struct Agent {
     std::vector<road::Vec2> path_points;
     std::vector<double> path_speeds, path_cum;
     double path_s = 0;
+    int32_t meet = -1;  // the agent it times its motion to meet (ir::Vehicle::meet), -1: none
     // An agent driven from outside (co-simulation): its state at the next tick, set before the
     // step that moves it there (box centre, heading, signed speed and acceleration).
     struct ExternalState {

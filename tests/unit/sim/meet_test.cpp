@@ -1,0 +1,88 @@
+// `meet V`: a path agent times its motion to reach the point where V's heading crosses its path
+// when V does (GeoScenario's ensured collision, collision_vehicle_vid). Pinned by properties
+// over vehicle speeds and crossing places: the meeting happens (a collision with a vehicle that
+// cannot react, a trajectory) in every case; the same pedestrian at its own pace meets it in none; and a
+// vehicle that never crosses the path leaves the pedestrian at its own pace.
+#include <doctest/doctest.h>
+
+#include <string>
+
+#include "compiler/sema/compile.h"
+#include "runtime/sim/simulation.h"
+#include "runtime/sim/world.h"
+
+using namespace sdv;
+
+namespace {
+
+std::optional<ir::Program> compile(const std::string& text) {
+    diag::SourceManager sm;
+    diag::DiagnosticEngine diags(sm);
+    auto c = compiler::compile_source("meet.sdv", text, sm, diags);
+    for (const auto& d : diags.sorted()) {
+        if (d.severity == diag::Severity::error) MESSAGE(d.code << " " << d.message);
+    }
+    return std::move(c.program);
+}
+
+// A car at a constant `speed` along lane 1 (forward: from 20 m to 380 m; else lane -1, from 380 m
+// to 20 m): a trajectory, which does not react. The pedestrian crosses at x from 30 m beside the
+// road, at 0.5 m/s on its own.
+std::string scenario(double speed, double x, bool meet, bool forward = true) {
+    const std::string lane = forward ? "lane 1" : "lane -1";
+    const std::string end = std::to_string(360.0 / speed);
+    return R"(road r {
+    lanes 1 forward, 1 backward
+    straight 400 m
+}
+scenario s {
+    road r
+    timeout 70 s
+    vehicle car: trajectory { trajectory { 0 s: )" + lane + (forward ? " at 20 m  " : " at 380 m  ") + end + " s: " + lane +
+           (forward ? " at 380 m" : " at 20 m") + R"( } }
+    pedestrian p: path {
+        speed 0.5 m/s
+)" + (meet ? "        meet car\n" : "") +
+           "        path { at (" + std::to_string(x) + " m, -30 m) speed 0.5 m/s  at (" + std::to_string(x) + R"( m, 9 m) speed 0.5 m/s }
+    }
+}
+)";
+}
+
+bool collided(const sim::RunResult& r) {
+    for (const auto& e : r.events) {
+        if (e.kind == "collision") return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+TEST_CASE("meet: a path pedestrian reaches the crossing point when the vehicle does, at every speed and place") {
+    for (double speed : {6.0, 10.0, 15.0}) {
+        for (double x : {120.0, 200.0, 300.0}) {
+            CAPTURE(speed);
+            CAPTURE(x);
+            auto timed = compile(scenario(speed, x, true));
+            REQUIRE(timed);
+            CHECK(collided(sim::simulate(*timed, 0, {})));
+            // The conflict removed: at its own pace (30 m away, 0.5 m/s) it is far from the road when the car passes.
+            auto own = compile(scenario(speed, x, false));
+            REQUIRE(own);
+            CHECK(!collided(sim::simulate(*own, 0, {})));
+        }
+    }
+}
+
+TEST_CASE("meet: a vehicle driving away from the path leaves the pedestrian at its own pace") {
+    // The car starts at 380 m in the backward lane and drives away from the path at 390 m (to the
+    // road's start): its heading never crosses the path ahead, so the pedestrian keeps 0.5 m/s.
+    auto p = compile(scenario(10, 390, true, false));
+    REQUIRE(p);
+    sim::Simulation s(*p, 0, {});
+    REQUIRE(s.start().empty());
+    const auto& walker = s.world().agents[1];
+    while (s.step()) {
+        if (s.time() > 1 && s.time() < 15) CHECK(walker.speed == doctest::Approx(0.5).epsilon(1e-6));
+    }
+}
