@@ -60,11 +60,13 @@ std::string summary(const ir::Program& p, const std::string& hash) {
             << ", timeout " << s.timeout << " s, seed " << s.seed << ", " << s.expect_roots.size()
             << " expectation" << (s.expect_roots.size() == 1 ? "" : "s") << "\n";
         for (const auto& v : s.vehicles) {
-            out << "  " << (v.is_ego ? "ego " : "    ") << v.name << ": "
-                << (v.kind == ir::VehicleKind::sdv          ? "sdv"
-                    : v.kind == ir::VehicleKind::trajectory ? "trajectory"
-                    : v.kind == ir::VehicleKind::static_object ? "static"
-                                                               : "external");
+            // The kind as the source declares it (a simulated pedestrian is an sdp).
+            const char* kind = v.kind == ir::VehicleKind::sdv             ? (v.pedestrian ? "sdp" : "sdv")
+                               : v.kind == ir::VehicleKind::trajectory    ? "trajectory"
+                               : v.kind == ir::VehicleKind::path          ? "path"
+                               : v.kind == ir::VehicleKind::static_object ? (v.object ? "object" : "static")
+                                                                          : "external";
+            out << "  " << (v.is_ego ? "ego " : "    ") << v.name << ": " << (v.pedestrian ? "pedestrian, " : "") << kind;
             if (!v.start.xy) out << ", starts on " << v.start.lane << " at " << v.start.s << " m";
             if (v.tree >= 0) {
                 const auto& inst = p.instances[static_cast<size_t>(v.tree)];
