@@ -174,9 +174,8 @@ ENTRIES = {
               "A vehicle names a route or trajectory the file does not define, a way refers to a "
               "missing node, or the map is not found (give its directory with `--map-dir`)."),
     "E0913": ("unsupported GeoScenario element",
-              "An element or tree leaf sdv cannot simulate: an element GeoScenario 2.0 does not define, a "
-              "pedestrian maneuver's `collision_vehicle_vid` (walk_ensure_collision.btree) or the `at_desired_speed` "
-              "condition of a pedestrian tree."),
+              "An element or tree leaf sdv cannot simulate: an element GeoScenario 2.0 does not define, or the "
+              "`at_desired_speed` and `past_crosswalk_halfway` conditions of a pedestrian tree."),
     "W0101": ("unused-tree", "A tree of the main file is used by no scenario (only when the file has a scenario)."),
     "W0102": ("unused-parameter", "A tree parameter is never referenced in the tree."),
     "W0103": ("unused-import", "Nothing from an import is used (only when the file has a scenario)."),

@@ -285,7 +285,7 @@ private:
 // the reference does whatever it says); unsupported: E0913 (FieldMap::note says what sdv lacks).
 enum class Conv {
     sampled, quantity, integer, boolean, side, vehicle, stop_target, lateral, delta_s, ignore_if_zero, ignore, accept,
-    unsupported
+    vehicle_or_none,  // a vehicle id, -1 meaning none
 };
 
 struct FieldMap {
@@ -395,9 +395,7 @@ const std::vector<ClassMap>& pedestrian_classes() {
            "so does sdv's"},
           {"time", "", Conv::ignore, kPedestrianIgnores},
           {"max_diff", "", Conv::ignore, kPedestrianIgnores},
-          {"collision_vehicle_vid", "", Conv::unsupported,
-           "sdv has no maneuver that times the walk to meet a vehicle at the crosswalk (the reference's ensured "
-           "collision, speed_to_ensure_collision)"}},
+          {"collision_vehicle_vid", "meet", Conv::vehicle_or_none}},
          {{"speed", kPedestrianSpeed}},
          "MKeepInLaneConfig: on to its next waypoint (the target crosswalk's entrance or far end, else the goal) at "
          "the reference's desired speed",
@@ -511,13 +509,10 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
                     .notes.push_back({{}, f.note != nullptr ? f.note : "sdv's planner has no equivalent setting"});
                 continue;
             case Conv::accept: continue;
-            case Conv::unsupported:
-                if (auto n = val.number(*it); n && *n != -1) {
-                    diags.error("E0913", it->key_range,
-                                "parameter '" + std::string(f.ref) + "' of " + cm.mconfig + " is not supported by sdv")
-                        .notes.push_back({{}, f.note});
-                }
-                continue;
+            case Conv::vehicle_or_none:
+                if (auto n = val.number(*it); n && *n == -1) continue;
+                text = val.vehicle_id(*it);
+                break;
         }
         if (text) out.push_back({f.ours, *text});
     }

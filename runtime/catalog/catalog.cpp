@@ -199,7 +199,11 @@ void add_pedestrian_maneuvers(std::vector<ManeuverDef>& ms) {
         "road on the way) and stand there; without a goal, straight ahead",
         "SUCCESS",
         {speed(1.4, "desired walking speed"),
-         qty("arrive", Dim::length, DefaultValue{0.3}, 0.05, 10, "distance at which a point of the way counts as reached")});
+         qty("arrive", Dim::length, DefaultValue{0.3}, 0.05, 10, "distance at which a point of the way counts as reached"),
+         vehicle("meet", false,
+                 "with a target crosswalk: walk at the speed that reaches the point where this vehicle's heading "
+                 "crosses the crosswalk when the vehicle does, and stand while it heads for none "
+                 "(GeoScenario's ensured collision)")});
     add("stand", ManeuverKind::stand, "stop walking and stand where it is (the social force model "
         "brings it to rest within about a second)", "SUCCESS", {});
     add("wait_at_crosswalk", ManeuverKind::wait_at_crosswalk,

@@ -104,6 +104,9 @@ public:
             case ManeuverKind::walk:
                 k.base_speed = k.speed = speed();
                 k.arrive = num(n, "arrive");
+                if (const auto* m = param(n, "meet"); m != nullptr && m->vehicle.kind == ir::VehicleRef::Kind::vehicle && target_phase()) {
+                    k.speed = meeting_speed(w.snapshot[static_cast<size_t>(m->vehicle.vehicle)]);
+                }
                 return bt::Status::success;
             case ManeuverKind::stand: k.speed = 0; return bt::Status::success;
             case ManeuverKind::wait_at_crosswalk:
@@ -150,6 +153,28 @@ private:
         const auto* p = param(n, "vehicle");
         if (p == nullptr || p->vehicle.kind != ir::VehicleRef::Kind::vehicle) return &w.snapshot[static_cast<size_t>(a.index)];
         return other(n);
+    }
+
+    // The speed that brings it to where the vehicle's heading crosses its target crosswalk's
+    // centre line when the vehicle gets there (sp/ManeuverModels.plan_keep_in_lane); 0 while the
+    // vehicle heads for no point of it. At most 10 m/s.
+    double meeting_speed(const Snap& o) const {
+        const double v = std::hypot(o.vx, o.vy);
+        if (!o.active || v < 0.1) return 0;
+        const Vec2 from{o.x, o.y}, dir{o.vx / v, o.vy / v};
+        const auto& c = crosswalk().centre;
+        for (size_t j = 0; j + 1 < c.size(); ++j) {
+            const Vec2 seg = c[j + 1] - c[j];
+            const double den = road::cross(dir, seg);
+            if (std::fabs(den) < 1e-12) continue;
+            const Vec2 q = c[j] - from;
+            const double along = road::cross(q, seg) / den;
+            const double u = road::cross(q, dir) / den;
+            if (along <= 0 || u < 0 || u > 1) continue;
+            const Vec2 meet = c[j] + u * seg;
+            return std::min(10.0, distance({a.x, a.y}, meet) * v / along);
+        }
+        return 0;
     }
 
     bool target_phase() const {

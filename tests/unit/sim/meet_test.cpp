@@ -86,3 +86,47 @@ TEST_CASE("meet: a vehicle driving away from the path leaves the pedestrian at i
         if (s.time() > 1 && s.time() < 15) CHECK(walker.speed == doctest::Approx(0.5).epsilon(1e-6));
     }
 }
+
+TEST_CASE("walk(meet = V): timed to the crosswalk by the vehicle heading for it, standing while none does") {
+    // A pedestrian 10 m beside a crosswalk at 200 m walks to it timed by a car: the nearer the
+    // car (the same speed), the faster it must walk; a car that has passed the crosswalk heads
+    // for no point of it, and the pedestrian stands (GeoScenario's plan_keep_in_lane).
+    auto desired = [](double car_at, double car_to) {
+        const std::string text = R"(import "std/pedestrian.sdv"
+road r {
+    lanes 1 forward, 1 backward
+    straight 400 m
+    crosswalk x at 200 m width 4 m
+}
+scenario s {
+    road r
+    timeout 2 s
+    vehicle car: trajectory { trajectory { 0 s: lane 1 at )" + std::to_string(car_at) + " m  20 s: lane 1 at " +
+                                 std::to_string(car_to) + R"( m } }
+    pedestrian p: sdp {
+        start lane 1 at 200 m offset -12 m
+        goal lane -1 at 200 m offset -8 m
+        tree timed()
+    }
+}
+tree timed() {
+    sequence {
+        maneuver select_crosswalk(by = nearest)
+        maneuver walk(meet = car)
+    }
+}
+)";
+        auto p = compile(text);
+        REQUIRE(p);
+        sim::Simulation s(*p, 0, {});
+        REQUIRE(s.start().empty());
+        for (int i = 0; i < 20; ++i) s.step();
+        const auto& w = s.world().agents[1];
+        REQUIRE(w.walker);
+        return w.walker->speed;
+    };
+    const double far = desired(0, 200), near = desired(100, 300), away = desired(250, 390);
+    CHECK(far > 0);
+    CHECK(near > 1.5 * far);  // half as far to go for the car: about twice the speed
+    CHECK(away == 0);
+}
