@@ -181,14 +181,54 @@ ReferenceLine::Foot ReferenceLine::nearest_in(Vec2 p, size_t first, size_t last)
     return best;
 }
 
+namespace {
+
+// Squared distance from p to a box (0 inside): no segment of the box's samples is nearer.
+double box_d2(Vec2 p, Vec2 min, Vec2 max) {
+    const double dx = std::max({min.x - p.x, 0.0, p.x - max.x});
+    const double dy = std::max({min.y - p.y, 0.0, p.y - max.y});
+    return dx * dx + dy * dy;
+}
+
+}  // namespace
+
+ReferenceLine::Foot ReferenceLine::nearest_window(Vec2 p, size_t first, size_t last) const {
+    // nearest_in keeps the first of equally near segments: the least (d2, segment). Taking that
+    // least over the chunks in any order gives the same foot, so the chunk with the nearest box
+    // goes first and another counts unless its box is farther than the best so far (a
+    // pedestrian beside a lane scans one or two of a window's seven chunks). The box is widened
+    // by far more than the rounding of the feet nearest_in computes, which may fall an ulp
+    // outside it, and must be farther by more than the rounding of the squares.
+    const size_t k0 = first / kChunk, k1 = (last + kChunk - 1) / kChunk;  // chunks k0..k1-1
+    auto d2 = [&](size_t k) {
+        const Chunk& c = chunks_[k];
+        const double e = 1e-9 * (1 + std::max({std::fabs(c.min.x), std::fabs(c.min.y), std::fabs(c.max.x), std::fabs(c.max.y)}));
+        return box_d2(p, c.min - Vec2{e, e}, c.max + Vec2{e, e});
+    };
+    size_t start = k0;
+    double start_d2 = INFINITY;
+    for (size_t k = k0; k < k1; ++k) {
+        if (const double d = d2(k); d < start_d2) {
+            start_d2 = d;
+            start = k;
+        }
+    }
+    Foot best;
+    auto scan = [&](size_t k) {
+        const Foot f = nearest_in(p, std::max(first, chunks_[k].first), std::min(last, chunks_[k].last));
+        if (f.d2 < best.d2 || (f.d2 == best.d2 && f.segment < best.segment)) best = f;
+    };
+    scan(start);
+    for (size_t k = k0; k < k1; ++k) {
+        if (k != start && !(d2(k) > best.d2 * (1 + 1e-9))) scan(k);
+    }
+    return best;
+}
+
 ReferenceLine::Foot ReferenceLine::nearest_global(Vec2 p) const {
     // Chunks of samples with bounding boxes: a chunk can hold the nearest point only if its box
     // is nearer than the best point found so far. Exact, and a few chunks are scanned in full.
-    auto box_d2 = [&](const Chunk& c) {
-        const double dx = std::max({c.min.x - p.x, 0.0, p.x - c.max.x});
-        const double dy = std::max({c.min.y - p.y, 0.0, p.y - c.max.y});
-        return dx * dx + dy * dy;
-    };
+    auto box_d2 = [&](const Chunk& c) { return road::box_d2(p, c.min, c.max); };
     size_t start = 0;
     double start_d2 = INFINITY;
     for (size_t k = 0; k < chunks_.size(); ++k) {
@@ -218,7 +258,7 @@ FrenetState ReferenceLine::project(Vec2 p, double hint, double reach) const {
         const size_t centre = segment(hint);
         const size_t lo = centre > kWindow ? centre - kWindow : 0;
         const size_t hi = std::min(segments, centre + kWindow + 1);
-        foot = nearest_in(p, lo, hi);
+        foot = nearest_window(p, lo, hi);
         const bool at_low_edge = foot.segment == lo && foot.t == 0.0 && lo > 0;
         const bool at_high_edge = foot.segment + 1 == hi && foot.t == 1.0 && hi < segments;
         found = !at_low_edge && !at_high_edge && foot.d2 <= reach * reach;  // else globally

@@ -72,6 +72,8 @@ private:
     Interp at(double s) const;
     size_t segment(double s) const;
     Foot nearest_in(Vec2 p, size_t first_segment, size_t end_segment) const;
+    // nearest_in's answer, skipping the chunks whose box is farther than the best point so far.
+    Foot nearest_window(Vec2 p, size_t first_segment, size_t end_segment) const;
     Foot nearest_global(Vec2 p) const;
 
     std::vector<double> s_, x_, y_, theta_, kappa_, dkappa_;
