@@ -158,6 +158,17 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
         frames[i] = {{a.x, a.y}, {std::cos(a.yaw), std::sin(a.yaw)}, a.v->length, a.v->width};
     }
     const double range = std::max(w.scenario.sensor_range, kPairRange);
+    // Two pedestrians are a pair only when an expectation names them (below): a pedestrian's
+    // row looks its neighbours up among the other agents alone, not in the crowd round it.
+    vehicle_x_.resize(n);
+    vehicle_y_.resize(n);
+    is_vehicle_.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        vehicle_x_[i] = agents[i].x;
+        vehicle_y_[i] = agents[i].y;
+        is_vehicle_[i] = agents[i].active && !agents[i].v->pedestrian ? 1 : 0;
+    }
+    vehicles_.build(vehicle_x_, vehicle_y_, is_vehicle_, range);
     // 1. Per vehicle i (in parallel, reading only): the samples of its pairs with j > i within
     // range or named by an expectation.
     rows_.resize(n);
@@ -166,7 +177,7 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
         row.clear();
         if (!agents[i].active) return;
         thread_local std::vector<int> near;
-        w.grid.query(agents[i].x, agents[i].y, range, near);
+        (agents[i].v->pedestrian ? vehicles_ : w.grid).query(agents[i].x, agents[i].y, range, near);
         near.erase(near.begin(), std::upper_bound(near.begin(), near.end(), static_cast<int>(i)));
         const auto& named = named_[i];
         if (!named.empty()) {

@@ -12,6 +12,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "runtime/sim/grid.h"
 #include "runtime/sim/pool.h"
 #include "runtime/sim/simulation.h"
 #include "runtime/sim/world.h"
@@ -62,6 +63,11 @@ private:
     std::vector<std::vector<Measured>> rows_;       // per vehicle i: this tick's pairs (i, j > i)
     std::vector<double> half_diagonal_;            // per vehicle: half its footprint's diagonal
     std::vector<OnLane> lanes_;
+    // This tick's active agents other than pedestrians by position (for pedestrians' rows), and
+    // what it is built from.
+    Grid vehicles_;
+    std::vector<double> vehicle_x_, vehicle_y_;
+    std::vector<char> is_vehicle_;
     std::vector<WindowMetrics*> now_;  // the windows holding this tick
     bool started_ = false;
     bool ended_ = false;
