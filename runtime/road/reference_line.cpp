@@ -117,6 +117,18 @@ std::optional<ReferenceLine> ReferenceLine::build(std::span<const Vec2> points, 
         }
         line.chunks_.push_back(c);
     }
+    for (size_t first = 0; first < line.chunks_.size(); first += kGroup) {
+        Chunk g;
+        g.first = first;
+        g.last = std::min(line.chunks_.size(), first + kGroup);
+        g.min = line.chunks_[first].min;
+        g.max = line.chunks_[first].max;
+        for (size_t k = first; k < g.last; ++k) {
+            g.min = {std::min(g.min.x, line.chunks_[k].min.x), std::min(g.min.y, line.chunks_[k].min.y)};
+            g.max = {std::max(g.max.x, line.chunks_[k].max.x), std::max(g.max.y, line.chunks_[k].max.y)};
+        }
+        line.groups_.push_back(g);
+    }
     const double span = line.s_.back() - line.s_.front();
     line.per_metre_ = span > 0 ? static_cast<double>(n - 1) / span : 0.0;
     return line;
@@ -228,20 +240,41 @@ ReferenceLine::Foot ReferenceLine::nearest_window(Vec2 p, size_t first, size_t l
 ReferenceLine::Foot ReferenceLine::nearest_global(Vec2 p) const {
     // Chunks of samples with bounding boxes: a chunk can hold the nearest point only if its box
     // is nearer than the best point found so far. Exact, and a few chunks are scanned in full.
+    // A group's box is never farther than its chunks' (rounding is monotone), so a group is
+    // passed over only where each of its chunks would be.
     auto box_d2 = [&](const Chunk& c) { return road::box_d2(p, c.min, c.max); };
-    size_t start = 0;
-    double start_d2 = INFINITY;
-    for (size_t k = 0; k < chunks_.size(); ++k) {
-        if (const double d2 = box_d2(chunks_[k]); d2 < start_d2) {
-            start_d2 = d2;
-            start = k;
+    // 1. The start: the first chunk with the nearest box (0 when none is finitely near). Every
+    // chunk that near is in a group no farther than a chunk of the nearest group.
+    size_t nearest_group = 0;
+    double group_d2 = INFINITY;
+    for (size_t g = 0; g < groups_.size(); ++g) {
+        if (const double d2 = box_d2(groups_[g]); d2 < group_d2) {
+            group_d2 = d2;
+            nearest_group = g;
         }
     }
+    double bound = INFINITY;
+    for (size_t k = groups_[nearest_group].first; k < groups_[nearest_group].last; ++k) bound = std::min(bound, box_d2(chunks_[k]));
+    size_t start = 0;
+    double start_d2 = INFINITY;
+    for (const Chunk& g : groups_) {
+        if (box_d2(g) > bound) continue;
+        for (size_t k = g.first; k < g.last; ++k) {
+            if (const double d2 = box_d2(chunks_[k]); d2 < start_d2) {
+                start_d2 = d2;
+                start = k;
+            }
+        }
+    }
+    // 2. From the start, every chunk whose box is nearer than the best point so far, in order.
     Foot best = nearest_in(p, chunks_[start].first, chunks_[start].last);
-    for (size_t k = 0; k < chunks_.size(); ++k) {
-        if (k == start || box_d2(chunks_[k]) >= best.d2) continue;
-        const Foot f = nearest_in(p, chunks_[k].first, chunks_[k].last);
-        if (f.d2 < best.d2) best = f;
+    for (const Chunk& g : groups_) {
+        if (box_d2(g) >= best.d2) continue;
+        for (size_t k = g.first; k < g.last; ++k) {
+            if (k == start || box_d2(chunks_[k]) >= best.d2) continue;
+            const Foot f = nearest_in(p, chunks_[k].first, chunks_[k].last);
+            if (f.d2 < best.d2) best = f;
+        }
     }
     return best;
 }

@@ -62,12 +62,14 @@ private:
         size_t segment = 0;
         double t = 0, d2 = INFINITY;
     };
-    // Samples in chunks with bounding boxes, for the global search.
+    // Samples in chunks with bounding boxes, for the global search; chunks in groups with the
+    // box round theirs (a kilometre of line is 250 chunks, 16 groups).
     struct Chunk {
-        size_t first = 0, last = 0;  // sample indices (segments first..last-1)
+        size_t first = 0, last = 0;  // sample indices (segments first..last-1); a group's: chunks first..last-1
         Vec2 min, max;
     };
     static constexpr size_t kChunk = 16;
+    static constexpr size_t kGroup = 16;  // chunks
 
     Interp at(double s) const;
     size_t segment(double s) const;
@@ -77,7 +79,7 @@ private:
     Foot nearest_global(Vec2 p) const;
 
     std::vector<double> s_, x_, y_, theta_, kappa_, dkappa_;
-    std::vector<Chunk> chunks_;
+    std::vector<Chunk> chunks_, groups_;
     double per_metre_ = 0;  // samples per metre of s on average (segment()'s first guess)
 };
 
