@@ -94,16 +94,17 @@ std::optional<Yield> pedestrian_ahead(const Leaves& l, double distance_limit) {
                 for (const Seen& s : l.view.seen) {
                     const Snap& o = w.snapshot[static_cast<size_t>(s.index)];
                     if (!o.pedestrian) continue;
+                    // Near its lane, or walking toward it (tested first: it is cheap); off the
+                    // carriageway (on the kerb part of the crosswalk or at its end), only when
+                    // heading onto it.
+                    const bool near = std::fabs(s.f.d) <= half_lane + kNearLane;
+                    const bool toward = s.f.d * s.f.d_d < -0.05;
+                    if (!near && !toward) continue;
                     if (c.centre.empty()) continue;  // `along` places no one on it
                     const Vec2 from_first = Vec2{o.x, o.y} - c.centre.front();
                     if (dot(from_first, from_first) > reach2) continue;
                     const Along at = along(c.centre, {o.x, o.y});
                     if (at.off > 0.5 * c.width + kStripMargin || at.s < road_lo - kEntranceZone || at.s > road_hi + kEntranceZone) continue;
-                    // Near its lane, or walking toward it; off the carriageway (on the kerb
-                    // part of the crosswalk or at its end), only when heading onto it.
-                    const bool near = std::fabs(s.f.d) <= half_lane + kNearLane;
-                    const bool toward = s.f.d * s.f.d_d < -0.05;
-                    if (!near && !toward) continue;
                     if (at.s < road_lo || at.s > road_hi) {
                         // Walking onto the carriageway, or standing there waiting to cross (a
                         // simulated pedestrian's intent shows; one that follows waypoints waits
