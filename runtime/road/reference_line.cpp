@@ -117,6 +117,9 @@ std::optional<ReferenceLine> ReferenceLine::build(std::span<const Vec2> points, 
         }
         line.chunks_.push_back(c);
     }
+    double extent = 0;
+    for (size_t k = 0; k < n; ++k) extent = std::max({extent, std::fabs(line.x_[k]), std::fabs(line.y_[k])});
+    line.slack_ = 1e-9 * (1 + extent);
     for (size_t first = 0; first < line.chunks_.size(); first += kGroup) {
         Chunk g;
         g.first = first;
@@ -212,11 +215,8 @@ ReferenceLine::Foot ReferenceLine::nearest_window(Vec2 p, size_t first, size_t l
     // by far more than the rounding of the feet nearest_in computes, which may fall an ulp
     // outside it, and must be farther by more than the rounding of the squares.
     const size_t k0 = first / kChunk, k1 = (last + kChunk - 1) / kChunk;  // chunks k0..k1-1
-    auto d2 = [&](size_t k) {
-        const Chunk& c = chunks_[k];
-        const double e = 1e-9 * (1 + std::max({std::fabs(c.min.x), std::fabs(c.min.y), std::fabs(c.max.x), std::fabs(c.max.y)}));
-        return box_d2(p, c.min - Vec2{e, e}, c.max + Vec2{e, e});
-    };
+    const Vec2 e{slack_, slack_};
+    auto d2 = [&](size_t k) { return box_d2(p, chunks_[k].min - e, chunks_[k].max + e); };
     size_t start = k0;
     double start_d2 = INFINITY;
     for (size_t k = k0; k < k1; ++k) {

@@ -80,6 +80,7 @@ private:
 
     std::vector<double> s_, x_, y_, theta_, kappa_, dkappa_;
     std::vector<Chunk> chunks_, groups_;
+    double slack_ = 0;  // far beyond the rounding of a coordinate of the line (nearest_window)
     double per_metre_ = 0;  // samples per metre of s on average (segment()'s first guess)
 };
 
