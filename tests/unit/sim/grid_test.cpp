@@ -2,6 +2,7 @@
 // in ascending index, whether it sorts its cells' runs or sweeps marks over all agents.
 #include <doctest/doctest.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
