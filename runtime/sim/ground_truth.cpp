@@ -229,6 +229,13 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
             if (known) {
                 for (const WindowMetrics* m : now_) need = std::max(need, m->pairs[pi].min_clearance);
             }
+            // A deferred tick (below) counts with its upper bound, where it is in the same
+            // windows as this one.
+            Deferred* const before = known && deferred_[pi].pending ? &deferred_[pi] : nullptr;
+            const bool same_windows = before != nullptr && std::all_of(out_.windows.begin(), out_.windows.end(), [&](const WindowMetrics& m) {
+                return m.contains(before->t) == m.contains(t);
+            });
+            if (same_windows) need = std::min(need, before->upper);
             PairSample s;
             const double dx = boxes[j].centre.x - boxes[i].centre.x, dy = boxes[j].centre.y - boxes[i].centre.y;
             const double centre = std::sqrt(dx * dx + dy * dy);
@@ -255,15 +262,12 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
                 const double lower = std::max({bound, length(qi - frames[j].centre) - half_diagonal[j],
                                                length(nearest_point(frames[j], frames[i].centre) - frames[i].centre) - half_diagonal[i]});
                 const Deferred now{boxes[i], boxes[j], lower - slack, length(qi - qj) + slack, t, true};
-                Deferred& before = deferred_[pi];
-                const bool same_windows = std::all_of(out_.windows.begin(), out_.windows.end(),
-                                                      [&](const WindowMetrics& m) { return m.contains(before.t) == m.contains(t); });
-                if (!before.pending || (same_windows && now.upper < before.lower)) {
-                    before = now;  // the earlier tick is not the least
-                } else if (!(same_windows && before.upper < now.lower)) {  // else this one is not
-                    late = gap(before.a, before.b);
-                    late_t = before.t;
-                    before = now;
+                if (before == nullptr || (same_windows && now.upper < before->lower)) {
+                    deferred_[pi] = now;  // the earlier tick is not the least
+                } else if (!(same_windows && before->upper < now.lower)) {  // else this one is not
+                    late = gap(before->a, before->b);
+                    late_t = before->t;
+                    *before = now;
                 }
             } else if (close) {
                 s.clearance = gap(boxes[i], boxes[j]);
