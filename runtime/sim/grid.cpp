@@ -32,7 +32,7 @@ void Grid::build(const std::vector<double>& x, const std::vector<double>& y, con
     starts_.push_back(static_cast<uint32_t>(agents_.size()));
 }
 
-void Grid::query(double px, double py, double radius, std::vector<int>& out) const {
+void Grid::query(double px, double py, double radius, std::vector<int>& out, int after) const {
     out.clear();
     const auto lo_x = static_cast<int64_t>(std::clamp(std::floor((px - radius) / cell_), -1e15, 1e15));
     const auto hi_x = static_cast<int64_t>(std::clamp(std::floor((px + radius) / cell_), -1e15, 1e15));
@@ -46,7 +46,9 @@ void Grid::query(double px, double py, double radius, std::vector<int>& out) con
             if (it == keys_.end() || *it != key(cx, cy)) continue;
             const auto c = static_cast<size_t>(it - keys_.begin());
             const size_t before = out.size();
-            for (size_t k = starts_[c]; k < starts_[c + 1]; ++k) {
+            size_t first = starts_[c];
+            if (after >= 0) first = static_cast<size_t>(std::upper_bound(agents_.begin() + first, agents_.begin() + starts_[c + 1], after) - agents_.begin());
+            for (size_t k = first; k < starts_[c + 1]; ++k) {
                 const auto i = static_cast<size_t>(agents_[k]);
                 const double dx = x_[i] - px, dy = y_[i] - py;
                 if (dx * dx + dy * dy <= r2) out.push_back(agents_[k]);

@@ -16,8 +16,8 @@ public:
     // Rebuilds the index over points (x[i], y[i]) of the agents with active[i].
     void build(const std::vector<double>& x, const std::vector<double>& y, const std::vector<char>& active, double cell);
     // The active agents within `radius` of (px, py) (centre distance), ascending index, into
-    // `out` (cleared first).
-    void query(double px, double py, double radius, std::vector<int>& out) const;
+    // `out` (cleared first); only those with an index above `after` when it is given.
+    void query(double px, double py, double radius, std::vector<int>& out, int after = -1) const;
 
 private:
     int64_t key(int64_t cx, int64_t cy) const { return (cx << 32) ^ (cy & 0xffffffffLL); }

@@ -202,8 +202,7 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
         row.clear();
         if (!agents[i].active) return;
         thread_local std::vector<int> near;
-        (agents[i].v->pedestrian ? vehicles_ : w.grid).query(agents[i].x, agents[i].y, range, near);
-        near.erase(near.begin(), std::upper_bound(near.begin(), near.end(), static_cast<int>(i)));
+        (agents[i].v->pedestrian ? vehicles_ : w.grid).query(agents[i].x, agents[i].y, range, near, static_cast<int>(i));
         const auto& named = named_[i];
         if (!named.empty()) {
             near.insert(near.end(), named.begin(), named.end());

@@ -1,5 +1,6 @@
 // The snapshot's grid: a query returns what a scan of every agent with the same test returns,
-// in ascending index, whether it sorts its cells' runs or sweeps marks over all agents.
+// in ascending index, whether it sorts its cells' runs or sweeps marks over all agents, and with
+// only the indices above a given one.
 #include <doctest/doctest.h>
 
 #include <cstddef>
@@ -12,11 +13,12 @@ using namespace sdv::sim;
 
 namespace {
 
-// The reference: every active agent within `radius` (the grid's own test), ascending.
+// The reference: every active agent within `radius` (the grid's own test) with an index above
+// `after`, ascending.
 std::vector<int> scan(const std::vector<double>& x, const std::vector<double>& y, const std::vector<char>& on,
-                      double px, double py, double radius) {
+                      double px, double py, double radius, int after = -1) {
     std::vector<int> out;
-    for (size_t i = 0; i < x.size(); ++i) {
+    for (size_t i = static_cast<size_t>(after + 1); i < x.size(); ++i) {
         const double dx = x[i] - px, dy = y[i] - py;
         if (on[i] && dx * dx + dy * dy <= radius * radius) out.push_back(static_cast<int>(i));
     }
@@ -48,6 +50,9 @@ TEST_CASE("a grid query is a scan of every agent, in ascending index") {
             const double px = uniform(-300, 300), py = uniform(-200, 200);
             grid.query(px, py, radius, got);
             CHECK(got == scan(x, y, on, px, py, radius));
+            const int after = q * 6;
+            grid.query(px, py, radius, got, after);
+            CHECK(got == scan(x, y, on, px, py, radius, after));
         }
     }
     // An agent exactly at the radius counts, as in the scan.
