@@ -57,10 +57,10 @@ void Grid::query(double px, double py, double radius, std::vector<int>& out, int
         }
     }
     if (runs < 2) return;
-    // Ascending index: a sort, or for a large share of the agents (a sensor range holding most
-    // of them) a sweep over marks, linear in their number.
+    // Ascending index: a sort, or for a large share of the agents (a quarter or more: a sensor
+    // range holding most of them) a sweep over marks, linear in their number.
     const size_t n = x_.size();
-    if (out.size() * 16 < n) {
+    if (out.size() * 4 < n) {
         std::sort(out.begin(), out.end());
         return;
     }
