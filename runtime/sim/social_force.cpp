@@ -21,8 +21,7 @@ constexpr double kMaxExponent = 20.0;
 constexpr double kTiny = 1e-9;
 
 double clamp_finite(double x, double limit) {
-    if (!std::isfinite(x)) return x > 0 ? limit : (x < 0 ? -limit : 0.0);  // NaN → 0
-    return std::clamp(x, -limit, limit);
+    return std::isnan(x) ? 0.0 : std::clamp(x, -limit, limit);  // ±inf → ±limit, NaN → 0
 }
 
 double clamp_size(double x) { return std::max(0.0, clamp_finite(x, kMaxSize)); }
