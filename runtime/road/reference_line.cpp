@@ -254,7 +254,9 @@ ReferenceLine::Foot ReferenceLine::nearest_global(Vec2 p) const {
         }
     }
     double bound = INFINITY;
-    for (size_t k = groups_[nearest_group].first; k < groups_[nearest_group].last; ++k) bound = std::min(bound, box_d2(chunks_[k]));
+    for (size_t k = groups_[nearest_group].first; k < groups_[nearest_group].last; ++k) {
+        bound = std::min(bound, box_d2(chunks_[k]));
+    }
     size_t start = 0;
     double start_d2 = INFINITY;
     for (const Chunk& g : groups_) {

@@ -63,9 +63,10 @@ private:
         double t = 0, d2 = INFINITY;
     };
     // Samples in chunks with bounding boxes, for the global search; chunks in groups with the
-    // box round theirs (a kilometre of line is 250 chunks, 16 groups).
+    // box round theirs (a kilometre of line is 250 chunks, 16 groups), whose first..last-1 are
+    // chunk indices.
     struct Chunk {
-        size_t first = 0, last = 0;  // sample indices (segments first..last-1); a group's: chunks first..last-1
+        size_t first = 0, last = 0;  // sample indices (segments first..last-1)
         Vec2 min, max;
     };
     static constexpr size_t kChunk = 16;

@@ -46,9 +46,9 @@ void Grid::query(double px, double py, double radius, std::vector<int>& out, int
             if (it == keys_.end() || *it != key(cx, cy)) continue;
             const auto c = static_cast<size_t>(it - keys_.begin());
             const size_t before = out.size();
-            size_t first = starts_[c];
-            if (after >= 0) first = static_cast<size_t>(std::upper_bound(agents_.begin() + first, agents_.begin() + starts_[c + 1], after) - agents_.begin());
-            for (size_t k = first; k < starts_[c + 1]; ++k) {
+            const auto begin = agents_.begin() + starts_[c], end = agents_.begin() + starts_[c + 1];
+            const auto first = after >= 0 ? std::upper_bound(begin, end, after) : begin;
+            for (auto k = static_cast<size_t>(first - agents_.begin()); k < starts_[c + 1]; ++k) {
                 const auto i = static_cast<size_t>(agents_[k]);
                 const double dx = x_[i] - px, dy = y_[i] - py;
                 if (dx * dx + dy * dy <= r2) out.push_back(agents_[k]);

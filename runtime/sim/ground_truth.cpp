@@ -231,9 +231,10 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
             // A deferred tick (below) counts with its upper bound, where it is in the same
             // windows as this one.
             Deferred* const before = known && deferred_[pi].pending ? &deferred_[pi] : nullptr;
-            const bool same_windows = before != nullptr && std::all_of(out_.windows.begin(), out_.windows.end(), [&](const WindowMetrics& m) {
-                return m.contains(before->t) == m.contains(t);
-            });
+            const bool same_windows =
+                before != nullptr && std::all_of(out_.windows.begin(), out_.windows.end(), [&](const WindowMetrics& m) {
+                    return m.contains(before->t) == m.contains(t);
+                });
             if (same_windows) need = std::min(need, before->upper);
             PairSample s;
             const double dx = boxes[j].centre.x - boxes[i].centre.x, dy = boxes[j].centre.y - boxes[i].centre.y;
@@ -253,7 +254,8 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
             // compute its exact distance at every tick for seconds. The bounds: from one box's
             // point nearest to the other's centre, its distance to that box (upper) and to that
             // centre less the half diagonal (lower), with room for the rounding of either.
-            const double slack = 1e-6 + 1e-9 * std::max({std::fabs(dx), std::fabs(dy), std::fabs(boxes[i].centre.x), std::fabs(boxes[i].centre.y)});
+            const double slack =
+                1e-6 + 1e-9 * std::max({std::fabs(dx), std::fabs(dy), std::fabs(boxes[i].centre.x), std::fabs(boxes[i].centre.y)});
             double late = INFINITY, late_t = 0;
             if (close && known && !was_touching && bound > slack) {
                 const Vec2 qi = nearest_point(frames[i], frames[j].centre);
