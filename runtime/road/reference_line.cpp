@@ -117,6 +117,21 @@ std::optional<ReferenceLine> ReferenceLine::build(std::span<const Vec2> points, 
         }
         line.chunks_.push_back(c);
     }
+    double extent = 0;
+    for (size_t k = 0; k < n; ++k) extent = std::max({extent, std::fabs(line.x_[k]), std::fabs(line.y_[k])});
+    line.slack_ = 1e-9 * (1 + extent);
+    for (size_t first = 0; first < line.chunks_.size(); first += kGroup) {
+        Chunk g;
+        g.first = first;
+        g.last = std::min(line.chunks_.size(), first + kGroup);
+        g.min = line.chunks_[first].min;
+        g.max = line.chunks_[first].max;
+        for (size_t k = first; k < g.last; ++k) {
+            g.min = {std::min(g.min.x, line.chunks_[k].min.x), std::min(g.min.y, line.chunks_[k].min.y)};
+            g.max = {std::max(g.max.x, line.chunks_[k].max.x), std::max(g.max.y, line.chunks_[k].max.y)};
+        }
+        line.groups_.push_back(g);
+    }
     const double span = line.s_.back() - line.s_.front();
     line.per_metre_ = span > 0 ? static_cast<double>(n - 1) / span : 0.0;
     return line;
@@ -181,27 +196,87 @@ ReferenceLine::Foot ReferenceLine::nearest_in(Vec2 p, size_t first, size_t last)
     return best;
 }
 
-ReferenceLine::Foot ReferenceLine::nearest_global(Vec2 p) const {
-    // Chunks of samples with bounding boxes: a chunk can hold the nearest point only if its box
-    // is nearer than the best point found so far. Exact, and a few chunks are scanned in full.
-    auto box_d2 = [&](const Chunk& c) {
-        const double dx = std::max({c.min.x - p.x, 0.0, p.x - c.max.x});
-        const double dy = std::max({c.min.y - p.y, 0.0, p.y - c.max.y});
-        return dx * dx + dy * dy;
-    };
-    size_t start = 0;
+namespace {
+
+// Squared distance from p to a box (0 inside): no segment of the box's samples is nearer.
+double box_d2(Vec2 p, Vec2 min, Vec2 max) {
+    const double dx = std::max({min.x - p.x, 0.0, p.x - max.x});
+    const double dy = std::max({min.y - p.y, 0.0, p.y - max.y});
+    return dx * dx + dy * dy;
+}
+
+}  // namespace
+
+ReferenceLine::Foot ReferenceLine::nearest_window(Vec2 p, size_t first, size_t last) const {
+    // nearest_in keeps the first of equally near segments: the least (d2, segment). Taking that
+    // least over the chunks in any order gives the same foot, so the chunk with the nearest box
+    // goes first and another counts unless its box is farther than the best so far (a
+    // pedestrian beside a lane scans one or two of a window's seven chunks). The box is widened
+    // by far more than the rounding of the feet nearest_in computes, which may fall an ulp
+    // outside it, and must be farther by more than the rounding of the squares.
+    const size_t k0 = first / kChunk, k1 = (last + kChunk - 1) / kChunk;  // chunks k0..k1-1
+    const Vec2 e{slack_, slack_};
+    auto d2 = [&](size_t k) { return box_d2(p, chunks_[k].min - e, chunks_[k].max + e); };
+    size_t start = k0;
     double start_d2 = INFINITY;
-    for (size_t k = 0; k < chunks_.size(); ++k) {
-        if (const double d2 = box_d2(chunks_[k]); d2 < start_d2) {
-            start_d2 = d2;
+    for (size_t k = k0; k < k1; ++k) {
+        if (const double d = d2(k); d < start_d2) {
+            start_d2 = d;
             start = k;
         }
     }
+    Foot best;
+    auto scan = [&](size_t k) {
+        const Foot f = nearest_in(p, std::max(first, chunks_[k].first), std::min(last, chunks_[k].last));
+        if (f.d2 < best.d2 || (f.d2 == best.d2 && f.segment < best.segment)) best = f;
+    };
+    scan(start);
+    for (size_t k = k0; k < k1; ++k) {
+        if (k != start && !(d2(k) > best.d2 * (1 + 1e-9))) scan(k);
+    }
+    return best;
+}
+
+ReferenceLine::Foot ReferenceLine::nearest_global(Vec2 p) const {
+    // Chunks of samples with bounding boxes: a chunk can hold the nearest point only if its box
+    // is nearer than the best point found so far. Exact, and a few chunks are scanned in full.
+    // A group's box is never farther than its chunks' (rounding is monotone), so a group is
+    // passed over only where each of its chunks would be.
+    auto box_d2 = [&](const Chunk& c) { return road::box_d2(p, c.min, c.max); };
+    // 1. The start: the first chunk with the nearest box (0 when none is finitely near). Every
+    // chunk that near is in a group no farther than a chunk of the nearest group.
+    size_t nearest_group = 0;
+    double group_d2 = INFINITY;
+    for (size_t g = 0; g < groups_.size(); ++g) {
+        if (const double d2 = box_d2(groups_[g]); d2 < group_d2) {
+            group_d2 = d2;
+            nearest_group = g;
+        }
+    }
+    double bound = INFINITY;
+    for (size_t k = groups_[nearest_group].first; k < groups_[nearest_group].last; ++k) {
+        bound = std::min(bound, box_d2(chunks_[k]));
+    }
+    size_t start = 0;
+    double start_d2 = INFINITY;
+    for (const Chunk& g : groups_) {
+        if (box_d2(g) > bound) continue;
+        for (size_t k = g.first; k < g.last; ++k) {
+            if (const double d2 = box_d2(chunks_[k]); d2 < start_d2) {
+                start_d2 = d2;
+                start = k;
+            }
+        }
+    }
+    // 2. From the start, every chunk whose box is nearer than the best point so far, in order.
     Foot best = nearest_in(p, chunks_[start].first, chunks_[start].last);
-    for (size_t k = 0; k < chunks_.size(); ++k) {
-        if (k == start || box_d2(chunks_[k]) >= best.d2) continue;
-        const Foot f = nearest_in(p, chunks_[k].first, chunks_[k].last);
-        if (f.d2 < best.d2) best = f;
+    for (const Chunk& g : groups_) {
+        if (box_d2(g) >= best.d2) continue;
+        for (size_t k = g.first; k < g.last; ++k) {
+            if (k == start || box_d2(chunks_[k]) >= best.d2) continue;
+            const Foot f = nearest_in(p, chunks_[k].first, chunks_[k].last);
+            if (f.d2 < best.d2) best = f;
+        }
     }
     return best;
 }
@@ -218,7 +293,7 @@ FrenetState ReferenceLine::project(Vec2 p, double hint, double reach) const {
         const size_t centre = segment(hint);
         const size_t lo = centre > kWindow ? centre - kWindow : 0;
         const size_t hi = std::min(segments, centre + kWindow + 1);
-        foot = nearest_in(p, lo, hi);
+        foot = nearest_window(p, lo, hi);
         const bool at_low_edge = foot.segment == lo && foot.t == 0.0 && lo > 0;
         const bool at_high_edge = foot.segment + 1 == hi && foot.t == 1.0 && hi < segments;
         found = !at_low_edge && !at_high_edge && foot.d2 <= reach * reach;  // else globally

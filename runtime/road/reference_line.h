@@ -62,20 +62,26 @@ private:
         size_t segment = 0;
         double t = 0, d2 = INFINITY;
     };
-    // Samples in chunks with bounding boxes, for the global search.
+    // Samples in chunks with bounding boxes, for the global search; chunks in groups with the
+    // box round theirs (a kilometre of line is 250 chunks, 16 groups), whose first..last-1 are
+    // chunk indices.
     struct Chunk {
         size_t first = 0, last = 0;  // sample indices (segments first..last-1)
         Vec2 min, max;
     };
     static constexpr size_t kChunk = 16;
+    static constexpr size_t kGroup = 16;  // chunks
 
     Interp at(double s) const;
     size_t segment(double s) const;
     Foot nearest_in(Vec2 p, size_t first_segment, size_t end_segment) const;
+    // nearest_in's answer, skipping the chunks whose box is farther than the best point so far.
+    Foot nearest_window(Vec2 p, size_t first_segment, size_t end_segment) const;
     Foot nearest_global(Vec2 p) const;
 
     std::vector<double> s_, x_, y_, theta_, kappa_, dkappa_;
-    std::vector<Chunk> chunks_;
+    std::vector<Chunk> chunks_, groups_;
+    double slack_ = 0;  // far beyond the rounding of a coordinate of the line (nearest_window)
     double per_metre_ = 0;  // samples per metre of s on average (segment()'s first guess)
 };
 

@@ -38,6 +38,17 @@ double lateral_clearance(const Frame& a, const Frame& b, Vec2 h, double reach) {
     return std::max(0.0, std::fabs(road::dot(d, n)) - a.half_extent(n) - b.half_extent(n));
 }
 
+// |a| without std::hypot's overflow guard, for the bounds below (they allow for far more rounding).
+double length(Vec2 a) { return std::sqrt(road::dot(a, a)); }
+
+// The point of the footprint `f` nearest to p (p itself inside it).
+Vec2 nearest_point(const Frame& f, Vec2 p) {
+    const Vec2 d = p - f.centre, n{-f.heading.y, f.heading.x};
+    const double along = std::clamp(road::dot(d, f.heading), -0.5 * f.length, 0.5 * f.length);
+    const double across = std::clamp(road::dot(d, n), -0.5 * f.width, 0.5 * f.width);
+    return f.centre + along * f.heading + across * n;
+}
+
 using PairSample = GroundTruth::Sample;
 
 void fold(PairMetrics& m, const PairSample& s) {
@@ -58,23 +69,37 @@ void fold(VehicleMetrics& m, const Agent& a, std::optional<double> jerk) {
 
 }  // namespace
 
-GroundTruth::GroundTruth(size_t n, RunResult& out) : out_(out), n_(n), named_(n), lanes_(n) { out.vehicles.resize(n); }
+GroundTruth::GroundTruth(size_t n, RunResult& out) : out_(out), n_(n), index_(n), named_(n), lanes_(n) { out.vehicles.resize(n); }
 
 uint32_t GroundTruth::pair_index(int i, int j) {
-    const uint64_t key = static_cast<uint64_t>(i) * n_ + static_cast<uint64_t>(j);
-    const auto [it, fresh] = index_.try_emplace(key, static_cast<uint32_t>(out_.pairs.size()));
-    if (fresh) {
+    auto& row = index_[static_cast<size_t>(i)];
+    auto it = std::lower_bound(row.begin(), row.end(), std::make_pair(j, uint32_t{0}));
+    if (it == row.end() || it->first != j) {
+        it = row.insert(it, {j, static_cast<uint32_t>(out_.pairs.size())});
         PairMetrics m;
         m.a = i;
         m.b = j;
         out_.pairs.push_back(m);
         for (auto& win : out_.windows) win.pairs.push_back(m);
         touching_tick_.push_back(-2);
+        deferred_.emplace_back();
     }
     return it->second;
 }
 
+void GroundTruth::fold_late(uint32_t pair, double clearance, double t) {
+    out_.pairs[pair].min_clearance = std::min(out_.pairs[pair].min_clearance, clearance);
+    for (auto& win : out_.windows) {
+        if (win.contains(t)) win.pairs[pair].min_clearance = std::min(win.pairs[pair].min_clearance, clearance);
+    }
+}
+
 void GroundTruth::finish() {
+    for (uint32_t k = 0; k < deferred_.size(); ++k) {
+        const Deferred& d = deferred_[k];
+        if (d.pending) fold_late(k, gap(d.a, d.b), d.t);
+    }
+    deferred_.clear();
     std::vector<uint32_t> order(out_.pairs.size());
     for (uint32_t k = 0; k < order.size(); ++k) order[k] = k;
     std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) {
@@ -88,7 +113,7 @@ void GroundTruth::finish() {
     };
     permute(out_.pairs);
     for (auto& win : out_.windows) permute(win.pairs);
-    index_.clear();
+    index_.assign(n_, {});
 }
 
 // The pairs the expectations name, then one set of metrics per distinct window of them.
@@ -158,6 +183,17 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
         frames[i] = {{a.x, a.y}, {std::cos(a.yaw), std::sin(a.yaw)}, a.v->length, a.v->width};
     }
     const double range = std::max(w.scenario.sensor_range, kPairRange);
+    // Two pedestrians are a pair only when an expectation names them (below): a pedestrian's
+    // row looks its neighbours up among the other agents alone, not in the crowd round it.
+    vehicle_x_.resize(n);
+    vehicle_y_.resize(n);
+    is_vehicle_.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        vehicle_x_[i] = agents[i].x;
+        vehicle_y_[i] = agents[i].y;
+        is_vehicle_[i] = agents[i].active && !agents[i].v->pedestrian ? 1 : 0;
+    }
+    vehicles_.build(vehicle_x_, vehicle_y_, is_vehicle_, range);
     // 1. Per vehicle i (in parallel, reading only): the samples of its pairs with j > i within
     // range or named by an expectation.
     rows_.resize(n);
@@ -166,30 +202,40 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
         row.clear();
         if (!agents[i].active) return;
         thread_local std::vector<int> near;
-        w.grid.query(agents[i].x, agents[i].y, range, near);
-        near.erase(near.begin(), std::upper_bound(near.begin(), near.end(), static_cast<int>(i)));
+        (agents[i].v->pedestrian ? vehicles_ : w.grid).query(agents[i].x, agents[i].y, range, near, static_cast<int>(i));
         const auto& named = named_[i];
         if (!named.empty()) {
             near.insert(near.end(), named.begin(), named.end());
             std::sort(near.begin(), near.end());
             near.erase(std::unique(near.begin(), near.end()), near.end());
         }
+        const auto& pairs = index_[i];
+        auto pair = pairs.begin();  // the first of i's pairs with j at or after this neighbour
         for (const int jj : near) {
             const auto j = static_cast<size_t>(jj);
             if (!agents[j].active) continue;
             // Two pedestrians never collide (below): their pair is measured only when an
             // expectation names it, which keeps crowds cheap.
             if (agents[i].v->pedestrian && agents[j].v->pedestrian && std::find(named.begin(), named.end(), jj) == named.end()) continue;
-            const auto found = index_.find(static_cast<uint64_t>(i) * n_ + j);
-            const bool known = found != index_.end();
-            const bool was_touching = known && touching_tick_[found->second] == tick - 1;
+            while (pair != pairs.end() && pair->first < jj) ++pair;
+            const bool known = pair != pairs.end() && pair->first == jj;
+            const uint32_t pi = known ? pair->second : 0;
+            const bool was_touching = known && touching_tick_[pi] == tick - 1;
             // The exact box distance only when it could lower a minimum (of the run or of a
             // window holding this tick): a lower bound from the centres and the half
             // diagonals first.
-            double need = known ? out_.pairs[found->second].min_clearance : INFINITY;
+            double need = known ? out_.pairs[pi].min_clearance : INFINITY;
             if (known) {
-                for (const WindowMetrics* m : now_) need = std::max(need, m->pairs[found->second].min_clearance);
+                for (const WindowMetrics* m : now_) need = std::max(need, m->pairs[pi].min_clearance);
             }
+            // A deferred tick (below) counts with its upper bound, where it is in the same
+            // windows as this one.
+            Deferred* const before = known && deferred_[pi].pending ? &deferred_[pi] : nullptr;
+            const bool same_windows =
+                before != nullptr && std::all_of(out_.windows.begin(), out_.windows.end(), [&](const WindowMetrics& m) {
+                    return m.contains(before->t) == m.contains(t);
+                });
+            if (same_windows) need = std::min(need, before->upper);
             PairSample s;
             const double dx = boxes[j].centre.x - boxes[i].centre.x, dy = boxes[j].centre.y - boxes[i].centre.y;
             const double centre = std::sqrt(dx * dx + dy * dy);
@@ -203,7 +249,30 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
                 bound = std::max(bound, std::fabs(road::dot(d, u)) - frames[i].half_extent(u) - frames[j].half_extent(u));
             }
             const bool close = bound < need || bound <= 0 || was_touching;
-            if (close) s.clearance = gap(boxes[i], boxes[j]);
+            // Apart (bound > 0), the clearance counts only if it is the pair's least, which a
+            // later tick may rule out: a pair closing in on the kerb at 12 m/s would otherwise
+            // compute its exact distance at every tick for seconds. The bounds: from one box's
+            // point nearest to the other's centre, its distance to that box (upper) and to that
+            // centre less the half diagonal (lower), with room for the rounding of either.
+            const double slack =
+                1e-6 + 1e-9 * std::max({std::fabs(dx), std::fabs(dy), std::fabs(boxes[i].centre.x), std::fabs(boxes[i].centre.y)});
+            double late = INFINITY, late_t = 0;
+            if (close && known && !was_touching && bound > slack) {
+                const Vec2 qi = nearest_point(frames[i], frames[j].centre);
+                const Vec2 qj = nearest_point(frames[j], qi);
+                const double lower = std::max({bound, length(qi - frames[j].centre) - half_diagonal[j],
+                                               length(nearest_point(frames[j], frames[i].centre) - frames[i].centre) - half_diagonal[i]});
+                const Deferred now{boxes[i], boxes[j], lower - slack, length(qi - qj) + slack, t, true};
+                if (before == nullptr || (same_windows && now.upper < before->lower)) {
+                    deferred_[pi] = now;  // the earlier tick is not the least
+                } else if (!(same_windows && before->upper < now.lower)) {  // else this one is not
+                    late = gap(before->a, before->b);
+                    late_t = before->t;
+                    *before = now;
+                }
+            } else if (close) {
+                s.clearance = gap(boxes[i], boxes[j]);
+            }
             // Pedestrians brushing past each other in a crowd are not a traffic collision (the
             // social force keeps their bodies apart); every other contact is.
             const bool hit = close && s.clearance <= 0 && !(agents[i].v->pedestrian && agents[j].v->pedestrian);
@@ -236,7 +305,7 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
                 const double closing = behind.speed - ahead.speed;
                 if (closing > kClosing) s.ttc = s.gap / closing;
             }
-            row.push_back({jj, s, hit});
+            row.push_back({jj, s, hit, late, late_t});
         }
     };
     if (pool != nullptr) {
@@ -257,6 +326,7 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
             if (m.hit) touching_tick_[pi] = tick;
             fold(out_.pairs[pi], m.s);
             for (WindowMetrics* win : now_) fold(win->pairs[pi], m.s);
+            if (m.late < INFINITY) fold_late(pi, m.late, m.late_t);
         }
     }
 }

@@ -4,14 +4,18 @@
 // plans, and folds each tick into the whole run and into every expectation window that holds it.
 // Pairs are measured while their centres are within the pair range (the sensor range, at least
 // 100 m; found through the snapshot's grid) and always for the pairs an expectation names; a
-// pair never measured has no entry (RunResult::pairs holds the measured ones, by (a, b)).
+// pair never measured has no entry (RunResult::pairs holds the measured ones, by (a, b)). A
+// pair's clearance is computed only at the ticks that may hold its least: one it closes in at
+// waits until a later tick rules it out or, at the latest, until finish().
 #pragma once
 
 #include <cmath>
 #include <cstdint>
-#include <unordered_map>
+#include <utility>
 #include <vector>
 
+#include "runtime/sim/collision.h"
+#include "runtime/sim/grid.h"
 #include "runtime/sim/pool.h"
 #include "runtime/sim/simulation.h"
 #include "runtime/sim/world.h"
@@ -28,6 +32,7 @@ public:
         int j = 0;
         Sample s;
         bool hit = false;
+        double late = INFINITY, late_t = 0;  // the clearance of an earlier tick, computed at this one, and when
     };
 
     // Writes events and metrics into `out` (pairs, vehicles and windows sized here and at the
@@ -56,12 +61,30 @@ private:
 
     RunResult& out_;
     size_t n_ = 0;
-    std::unordered_map<uint64_t, uint32_t> index_;  // i·n + j → pair index
+    // Per vehicle i: (j, pair index) of its pairs so far, by j (a row's lookups walk it in step
+    // with its ascending neighbours).
+    std::vector<std::vector<std::pair<int, uint32_t>>> index_;
     std::vector<int> touching_tick_;                // per pair: the last tick it was in contact
+    // A tick at which a pair closed in, its clearance not computed yet: a later tick nearer by
+    // its bounds proves it is not the pair's least and replaces it (measure_pairs).
+    struct Deferred {
+        Box a, b;
+        double lower = 0, upper = 0;  // its clearance's bounds, with room for rounding
+        double t = 0;
+        bool pending = false;
+    };
+    std::vector<Deferred> deferred_;  // per pair
+    // Folds the clearance of pair `pair` at an earlier time t into the run and the windows holding t.
+    void fold_late(uint32_t pair, double clearance, double t);
     std::vector<std::vector<int>> named_;           // per vehicle i: the j > i an expectation names
     std::vector<std::vector<Measured>> rows_;       // per vehicle i: this tick's pairs (i, j > i)
     std::vector<double> half_diagonal_;            // per vehicle: half its footprint's diagonal
     std::vector<OnLane> lanes_;
+    // This tick's active agents other than pedestrians by position (for pedestrians' rows), and
+    // what it is built from.
+    Grid vehicles_;
+    std::vector<double> vehicle_x_, vehicle_y_;
+    std::vector<char> is_vehicle_;
     std::vector<WindowMetrics*> now_;  // the windows holding this tick
     bool started_ = false;
     bool ended_ = false;

@@ -23,6 +23,16 @@ constexpr double kTurnSpeed = 0.3;  // m/s
 constexpr double kRelocate = 1.0;  // m walked between two searches of the lane it is by
 constexpr double kStripEdge = 0.1;  // m a crosser keeps from the crosswalk's side edges
 
+// std::hypot(dx, dy) > r, as std::hypot decides it, for r of a few metres: the squares decide
+// but within a relative 1e-9 of r, far beyond the rounding of either (std::hypot cost more than
+// the rest of gathering a neighbour).
+bool beyond(double dx, double dy, double r) {
+    const double d2 = dx * dx + dy * dy;
+    if (d2 < r * r * (1 - 1e-9)) return false;
+    if (d2 > r * r * (1 + 1e-9)) return true;
+    return std::hypot(dx, dy) > r;
+}
+
 class WalkerModel final : public AgentModel {
 public:
     const char* kind() const override { return "pedestrian"; }
@@ -62,7 +72,7 @@ private:
             for (const int j : near) {
                 if (j == a.index) continue;
                 const Snap& o = w.snapshot[static_cast<size_t>(j)];
-                if (!o.active || std::hypot(o.x - a.x, o.y - a.y) > kNeighbourRadius) continue;
+                if (!o.active || beyond(o.x - a.x, o.y - a.y, kNeighbourRadius)) continue;
                 if (o.pedestrian) {
                     peds.push_back({{o.x, o.y}, {o.vx, o.vy}, 0.5 * std::max(o.length, o.width)});
                 } else {

@@ -84,16 +84,27 @@ std::optional<Yield> pedestrian_ahead(const Leaves& l, double distance_limit) {
                 // Already on it (its front past the near edge), or beyond the look-ahead.
                 if (edge < front - 0.5 || edge - front > distance_limit) continue;
                 const auto [road_lo, road_hi] = carriageway(w.net, c);
+                // Those `along` could place on the strip are within its arc length plus its
+                // offset of the centre line's first point: a cheap test first (with room for
+                // rounding), which leaves the exact one to decide (`along` costs two hypot a
+                // segment, for every pedestrian in sensor range).
+                const double reach = std::max(std::fabs(road_lo - kEntranceZone), std::fabs(road_hi + kEntranceZone)) +
+                                     0.5 * c.width + kStripMargin;
+                const double reach2 = (reach * (1 + 1e-9) + 1e-6) * (reach * (1 + 1e-9) + 1e-6);
                 for (const Seen& s : l.view.seen) {
                     const Snap& o = w.snapshot[static_cast<size_t>(s.index)];
                     if (!o.pedestrian) continue;
-                    const Along at = along(c.centre, {o.x, o.y});
-                    if (at.off > 0.5 * c.width + kStripMargin || at.s < road_lo - kEntranceZone || at.s > road_hi + kEntranceZone) continue;
-                    // Near its lane, or walking toward it; off the carriageway (on the kerb
-                    // part of the crosswalk or at its end), only when heading onto it.
+                    // Near its lane, or walking toward it (tested first: it is cheap); off the
+                    // carriageway (on the kerb part of the crosswalk or at its end), only when
+                    // heading onto it.
                     const bool near = std::fabs(s.f.d) <= half_lane + kNearLane;
                     const bool toward = s.f.d * s.f.d_d < -0.05;
                     if (!near && !toward) continue;
+                    if (c.centre.empty()) continue;  // `along` places no one on it
+                    const Vec2 from_first = Vec2{o.x, o.y} - c.centre.front();
+                    if (dot(from_first, from_first) > reach2) continue;
+                    const Along at = along(c.centre, {o.x, o.y});
+                    if (at.off > 0.5 * c.width + kStripMargin || at.s < road_lo - kEntranceZone || at.s > road_hi + kEntranceZone) continue;
                     if (at.s < road_lo || at.s > road_hi) {
                         // Walking onto the carriageway, or standing there waiting to cross (a
                         // simulated pedestrian's intent shows; one that follows waypoints waits

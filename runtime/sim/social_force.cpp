@@ -21,8 +21,7 @@ constexpr double kMaxExponent = 20.0;
 constexpr double kTiny = 1e-9;
 
 double clamp_finite(double x, double limit) {
-    if (!std::isfinite(x)) return x > 0 ? limit : (x < 0 ? -limit : 0.0);  // NaN → 0
-    return std::clamp(x, -limit, limit);
+    return std::isnan(x) ? 0.0 : std::clamp(x, -limit, limit);  // ±inf → ±limit, NaN → 0
 }
 
 double clamp_size(double x) { return std::max(0.0, clamp_finite(x, kMaxSize)); }
@@ -89,34 +88,34 @@ Vec2 desired_force(const Params& P, const State& s, Vec2 target, double v0) {
 // with a small lateral offset to the same world side (they swap sides and touch). We choose
 // the side that keeps the line of sight turning the way it already turns, as ships do (a
 // constant bearing is a collision course); on an exact collision course both go left, as the
-// reference does head-on.
-Vec2 side_step(const State& s, const Neighbour& o) {
-    const Vec2 own = unit_or(s.v, {});
+// reference does head-on. `own`: unit_or(s.v, {}); `distance`: length(o.p − s.p).
+Vec2 side_step(const State& s, Vec2 own, const Neighbour& o, double distance) {
     const Vec2 r = o.p - s.p, dv = o.v - s.v;
     if (dot(r, dv) >= 0) return {};  // not getting closer: nothing to evade
     const double turn = cross(r, dv);
-    if (std::abs(turn) <= kTiny * length(r) * length(dv)) return left_of(own);  // dead ahead
+    if (std::abs(turn) <= kTiny * distance * length(dv)) return left_of(own);  // dead ahead
     // Moving along +left changes dv by −left; keep sign(turn) growing.
     const double ahead = dot(r, own);
     if (ahead == 0) return {};
     return (turn * ahead > 0 ? -1.0 : 1.0) * left_of(own);
 }
 
-// The other pedestrian's push on us [N]: body repulsion plus the evasive effect.
-Vec2 pedestrian_force(const Params& P, const State& s, double radius, Vec2 walk_dir,
+// The other pedestrian's push on us [N]: body repulsion plus the evasive effect. `own`:
+// unit_or(s.v, {}), the same for every neighbour (computed once by the caller, as `walk_dir`).
+Vec2 pedestrian_force(const Params& P, const State& s, Vec2 own, double radius, Vec2 walk_dir,
                       const Neighbour& o) {
     const Vec2 away = s.p - o.p;
+    const double distance = length(away);
     // Coincident centres: part along the relative velocity (opposite for the two), else +x.
-    const Vec2 n = unit_or(away, unit_or(s.v - o.v, {1.0, 0.0}));
-    const double gap = length(away) - (radius + o.radius);
+    const Vec2 n = distance > kTiny ? (1.0 / distance) * away : unit_or(s.v - o.v, {1.0, 0.0});
+    const double gap = distance - (radius + o.radius);
     Vec2 f = decay(P.ped_strength, gap, P.ped_range) * n;
 
-    const Vec2 own = unit_or(s.v, {});
     const Vec2 theirs = unit_or(o.v, {});
     const Vec2 reflected = theirs - (2.0 * dot(theirs, own)) * own;
     const double w = anisotropy(P.ped_anisotropy, -dot(walk_dir, n));
     f = f + w * (decay(P.evade_reflect_strength, gap, P.evade_reflect_range) * reflected +
-                 decay(P.evade_side_strength, gap, P.evade_side_range) * side_step(s, o));
+                 decay(P.evade_side_strength, gap, P.evade_side_range) * side_step(s, own, o, distance));
     return f;
 }
 
@@ -196,10 +195,11 @@ Vec2 force(const Params& P, const State& state, double radius, Vec2 target, doub
     const double v0 = std::max(0.0, clamp_finite(desired_speed, kMaxSpeed));
 
     const Vec2 walk_dir = v0 > 0 ? unit_or(goal - s.p, {}) : Vec2{};
+    const Vec2 own = unit_or(s.v, {});
     Vec2 push{};  // newtons
     for (const Neighbour& n : peds) {
         const Neighbour o{clamp_vec(n.p, kMaxCoord), clamp_vec(n.v, kMaxSpeed), clamp_size(n.radius)};
-        push = push + pedestrian_force(P, s, r, walk_dir, o);
+        push = push + pedestrian_force(P, s, own, r, walk_dir, o);
     }
     for (const Obstacle& o : obstacles) push = push + obstacle_force(P, s, r, walk_dir, sanitized(o));
 
