@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "compiler/sema/compile.h"
 #include "runtime/sim/simulation.h"
 #include "runtime/sim/world.h"
+#include "tests/unit/io/compile_text.h"
 
 using namespace sdv;
 
@@ -76,16 +76,6 @@ std::string four(double s, double n, double e, double w, const std::string& tree
     return car("s", "south", "north", s) + car("n", "north", "south", n) + car("e", "east", "west", e) + car("w", "west", "east", w);
 }
 
-std::optional<ir::Program> compile(const std::string& text) {
-    diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
-    auto c = compiler::compile_source("aws.sdv", text, sm, diags);
-    for (const auto& d : diags.sorted()) {
-        if (d.severity == diag::Severity::error) MESSAGE(d.code << " " << d.message);
-    }
-    return std::move(c.program);
-}
-
 }  // namespace
 
 TEST_CASE("all-way stop: rest at the line, one at a time, first come first served, everyone through, at every rate") {
@@ -97,7 +87,7 @@ TEST_CASE("all-way stop: rest at the line, one at a time, first come first serve
             CAPTURE(r.traffic);
             CAPTURE(r.planning);
             CAPTURE(arrivals);
-            auto p = compile(scenario(r.traffic, r.planning, arrivals));
+            auto p = test::compile_text(scenario(r.traffic, r.planning, arrivals));
             REQUIRE(p);
             sim::Simulation sim(*p, 0, {});
             REQUIRE(sim.start().empty());
@@ -148,7 +138,7 @@ TEST_CASE("impatient drivers at an all-way stop: out of turn at times, never two
     // After 1 s at the line, a coin per planning cycle: some go out of turn, but only into an
     // empty junction while nobody pulls away; the same seed gives the same order.
     const std::string arrivals = four(40, 38, 36, 34, "aws(after = 1 s, chance = 0.5)");
-    auto p = compile(scenario(40, 5, arrivals));
+    auto p = test::compile_text(scenario(40, 5, arrivals));
     REQUIRE(p);
     std::vector<std::vector<double>> runs;
     for (int run = 0; run < 2; ++run) {

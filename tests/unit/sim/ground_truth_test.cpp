@@ -8,24 +8,14 @@
 #include <string>
 #include <utility>
 
-#include "compiler/sema/compile.h"
 #include "runtime/sim/collision.h"
 #include "runtime/sim/simulation.h"
 #include "runtime/sim/world.h"
+#include "tests/unit/io/compile_text.h"
 
 using namespace sdv;
 
 namespace {
-
-std::optional<ir::Program> compile(const std::string& text) {
-    diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
-    auto c = compiler::compile_source("ground_truth.sdv", text, sm, diags);
-    for (const auto& d : diags.sorted()) {
-        if (d.severity == diag::Severity::error) MESSAGE(d.code << " " << d.message);
-    }
-    return std::move(c.program);
-}
 
 sim::Box box(const sim::Agent& a) { return {{a.x, a.y}, a.yaw, a.v->length, a.v->width}; }
 
@@ -56,7 +46,7 @@ scenario s {
     expect min_clearance(kerb, crosser) > 0.1 m during 0 s .. 30 s
 }
 )";
-    auto p = compile(text);
+    auto p = test::compile_text(text);
     REQUIRE(p);
     sim::Simulation s(*p, 0, {});
     REQUIRE(s.start().empty());

@@ -7,23 +7,13 @@
 
 #include <string>
 
-#include "compiler/sema/compile.h"
 #include "runtime/sim/simulation.h"
 #include "runtime/sim/world.h"
+#include "tests/unit/io/compile_text.h"
 
 using namespace sdv;
 
 namespace {
-
-std::optional<ir::Program> compile(const std::string& text) {
-    diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
-    auto c = compiler::compile_source("meet.sdv", text, sm, diags);
-    for (const auto& d : diags.sorted()) {
-        if (d.severity == diag::Severity::error) MESSAGE(d.code << " " << d.message);
-    }
-    return std::move(c.program);
-}
 
 // A car at a constant `speed` along lane 1 (forward: from 20 m to 380 m; else lane -1, from 380 m
 // to 20 m): a trajectory, which does not react. The pedestrian crosses at x from 30 m beside the
@@ -63,11 +53,11 @@ TEST_CASE("meet: a path pedestrian reaches the crossing point when the vehicle d
         for (double x : {120.0, 200.0, 300.0}) {
             CAPTURE(speed);
             CAPTURE(x);
-            auto timed = compile(scenario(speed, x, true));
+            auto timed = test::compile_text(scenario(speed, x, true));
             REQUIRE(timed);
             CHECK(collided(sim::simulate(*timed, 0, {})));
             // The conflict removed: at its own pace (30 m away, 0.5 m/s) it is far from the road when the car passes.
-            auto own = compile(scenario(speed, x, false));
+            auto own = test::compile_text(scenario(speed, x, false));
             REQUIRE(own);
             CHECK(!collided(sim::simulate(*own, 0, {})));
         }
@@ -77,7 +67,7 @@ TEST_CASE("meet: a path pedestrian reaches the crossing point when the vehicle d
 TEST_CASE("meet: a vehicle driving away from the path leaves the pedestrian at its own pace") {
     // The car starts at 380 m in the backward lane and drives away from the path at 390 m (to the
     // road's start): its heading never crosses the path ahead, so the pedestrian keeps 0.5 m/s.
-    auto p = compile(scenario(10, 390, true, false));
+    auto p = test::compile_text(scenario(10, 390, true, false));
     REQUIRE(p);
     sim::Simulation s(*p, 0, {});
     REQUIRE(s.start().empty());
@@ -116,7 +106,7 @@ tree timed() {
     }
 }
 )";
-        auto p = compile(text);
+        auto p = test::compile_text(text);
         REQUIRE(p);
         sim::Simulation s(*p, 0, {});
         REQUIRE(s.start().empty());

@@ -11,24 +11,14 @@
 #include <string>
 #include <vector>
 
-#include "compiler/sema/compile.h"
 #include "runtime/sim/pedestrian.h"
 #include "runtime/sim/simulation.h"
 #include "runtime/sim/world.h"
+#include "tests/unit/io/compile_text.h"
 
 using namespace sdv;
 
 namespace {
-
-std::optional<ir::Program> compile(const std::string& text) {
-    diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
-    auto c = compiler::compile_source("pedestrians.sdv", text, sm, diags);
-    for (const auto& d : diags.sorted()) {
-        if (d.severity == diag::Severity::error) MESSAGE(d.code << " " << d.message);
-    }
-    return std::move(c.program);
-}
 
 // Runs scenario 0 to its end, calling `each` after every tick; returns the result.
 sim::RunResult run(const ir::Program& p, const std::function<void(const sim::World&, double)>& each) {
@@ -81,7 +71,7 @@ TEST_CASE("free walking: the desired speed within a few relaxation times, then s
             const std::string text = std::string(kRoad) + "tree w(speed: speed = 1 m/s) { maneuver walk(speed = speed) }\n" +
                                      "scenario s { road main  timeout 40 s\n  pedestrian p: sdp { start at (" + fmt(x0) + " m, " + fmt(y0) +
                                      " m) goal at (" + fmt(gx) + " m, " + fmt(gy) + " m) tree w(speed = " + fmt(v) + " m/s) } }\n";
-            auto p = compile(text);
+            auto p = test::compile_text(text);
             REQUIRE(p);
             CAPTURE(v);
             CAPTURE(angle);
@@ -120,7 +110,7 @@ scenario s {
                 fmt(-y) + " m) speed 1.3 m/s tree std.walk(speed = 1.3 m/s) }\n";
     }
     text += "}\n";
-    auto p = compile(text);
+    auto p = test::compile_text(text);
     REQUIRE(p);
     bool on_road[6] = {};
     int violations = 0, entered = 0;
@@ -149,7 +139,7 @@ TEST_CASE("two pedestrians walking into each other pass without their bodies ove
                                      "  pedestrian a: sdp { start at (150 m, -10 m) goal at (170 m, -10 m) tree w(speed = " + fmt(v) + " m/s) }\n" +
                                      "  pedestrian b: sdp { start at (170 m, " + fmt(-10 + offset) + " m) goal at (150 m, " + fmt(-10 + offset) +
                                      " m) tree w(speed = " + fmt(v) + " m/s) } }\n";
-            auto p = compile(text);
+            auto p = test::compile_text(text);
             REQUIRE(p);
             CAPTURE(offset);
             CAPTURE(v);
@@ -172,7 +162,7 @@ TEST_CASE("gap acceptance: the pedestrian waits for the gap it accepts, and cros
             const std::string text = std::string(kRoad) + "scenario s { road main  timeout 40 s\n" + (with_car ? car : "") +
                                      "  pedestrian p: sdp { start at (100 m, -12 m) goal at (100 m, 12 m) speed 1.4 m/s"
                                      " tree std.walk(gap = " + fmt(gap) + " s) } }\n";
-            auto p = compile(text);
+            auto p = test::compile_text(text);
             REQUIRE(p);
             CAPTURE(with_car);
             CAPTURE(gap);
@@ -205,7 +195,7 @@ TEST_CASE("gap acceptance: the pedestrian waits for the gap it accepts, and cros
 TEST_CASE("a path pedestrian follows its speed profile, linear in the distance walked, and stops at the end") {
     const std::string text = std::string(kRoad) + "scenario s { road main  timeout 30 s\n" +
                              "  pedestrian p: path { path { at (150 m, -10 m) speed 1 m/s   at (160 m, -10 m) speed 2 m/s   at (170 m, -10 m) } } }\n";
-    auto p = compile(text);
+    auto p = test::compile_text(text);
     REQUIRE(p);
     double last_x = 150;
     bool monotone = true, profile = true;
@@ -232,7 +222,7 @@ TEST_CASE("on a real map, a pedestrian crosses by crosswalks that bring it neare
         const std::string text = "import \"std/pedestrian.sdv\"\nmap weber { file \"" + map + "\" }\nscenario s { road weber  timeout 90 s\n" +
                                  "  light ped_tl_e_w_south { " + program + " }\n" +
                                  "  pedestrian p: sdp { start at (52 m, 10 m) goal at (80 m, 26 m) speed 1.3 m/s tree std.walk() } }\n";
-        auto p = compile(text);
+        auto p = test::compile_text(text);
         REQUIRE(p);
         CAPTURE(program);
         std::vector<int32_t> crossed;
