@@ -19,6 +19,7 @@
 #include "compiler/sema/compile.h"
 #include "compiler/syntax/format.h"
 #include "compiler/syntax/parser.h"
+#include "compiler/sema/std_trees.h"
 #include "runtime/catalog/catalog.h"
 #include "runtime/cosim/replay.h"
 #include "runtime/cosim/server.h"
@@ -595,13 +596,20 @@ int cmd_replay_cosim(const std::string& record, const std::string& out, const Co
     return r.identical && r.finish_error.empty() ? kOk : kFailure;
 }
 
-int cmd_catalog(const std::string& format) {
-    if (format == "json") {
+// The leaves (maneuvers, conditions, expectations) or, with --trees, the standard trees; the
+// markdown (docs/catalog.md) has both.
+int cmd_catalog(const std::string& format, bool trees) {
+    if (trees) {
+        const auto std_trees = compiler::std_trees();
+        std::cout << (format == "json"       ? compiler::render_std_trees_json(std_trees)
+                      : format == "markdown" ? compiler::render_std_trees_markdown(std_trees)
+                                             : compiler::render_std_trees_text(std_trees));
+    } else if (format == "json") {
         std::cout << catalog::to_json().dump(2) << "\n";
     } else if (format == "markdown") {
-        std::cout << catalog::render_markdown();
+        std::cout << catalog::render_markdown() << "\n" << compiler::render_std_trees_markdown(compiler::std_trees());
     } else {
-        std::cout << catalog::render_text();
+        std::cout << catalog::render_text() << "\nThe standard trees and their parameters: sdv catalog --trees\n";
     }
     return kOk;
 }
@@ -652,6 +660,8 @@ int run(int argc, char** argv) {
                                               "parameters, units, defaults and meaning");
     cat->add_option("--format", catalog_format, "text, json or markdown")
         ->check(CLI::IsMember({"text", "json", "markdown"}));
+    bool catalog_trees = false;
+    cat->add_flag("--trees", catalog_trees, "the standard trees instead: parameters, types, defaults and doc comments");
 
     RunArgs run_args;
     uint64_t seed_value = 0;
@@ -819,7 +829,7 @@ int run(int argc, char** argv) {
 
     if (lint->parsed()) return cmd_lint(lint_files, common, warnings, lint_quiet);
     if (compile->parsed()) return cmd_compile(compile_file, compile_out, emit, common, warnings);
-    if (cat->parsed()) return cmd_catalog(catalog_format);
+    if (cat->parsed()) return cmd_catalog(catalog_format, catalog_trees);
     if (convert_cmd->parsed()) return cmd_convert(convert_file, convert_out, common, warnings);
     if (sweep_cmd->parsed()) return cmd_sweep(sweep_args, common, warnings);
     if (search_cmd->parsed()) return cmd_search(search_args, common, warnings);

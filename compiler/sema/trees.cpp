@@ -337,6 +337,18 @@ TreeSym* Checker::check_subtree_ref(const ast::QualName& name, const std::vector
                 if (target->params.empty()) {
                     d->notes.push_back({{}, "it takes no parameters; to change a node, "
                                             "write node.field = value"});
+                } else {
+                    // Its parameters as declared: name, type and default, in order.
+                    std::string list;
+                    for (const auto& p : target->decl->params) {
+                        list += (list.empty() ? "" : ", ") + p.name.text + ": " + p.type.text;
+                        if (p.def && p.def->range.valid()) {
+                            const auto text = sm_.contents(p.def->range.begin.file);
+                            const uint32_t b = p.def->range.begin.offset, e = p.def->range.end.offset;
+                            if (b <= e && e <= text.size()) list += " = " + std::string(text.substr(b, e - b));
+                        }
+                    }
+                    d->notes.push_back({{}, "tree '" + target->qname + "' takes " + list + " (sdv catalog --trees lists the standard trees)"});
                 }
                 continue;
             }
