@@ -3,6 +3,7 @@
 // 2 usage error, 3 internal error. No verb logic lives here beyond wiring.
 #include <CLI/CLI.hpp>
 
+#include <chrono>
 #include <cstdio>
 #include <optional>
 #include <filesystem>
@@ -336,8 +337,21 @@ int run_one(const RunArgs& args, Loaded& loaded) {
     opts.realtime = args.realtime;
     const bool tty = isatty(STDERR_FILENO) != 0;
     if (tty) {
-        opts.progress = [&](double f) {
-            std::fprintf(stderr, "\r%s: %3.0f%%", sc.name.c_str(), 100 * f);
+        // On a terminal: the simulated time and real-time factor on one line, and each event
+        // (but fallbacks, summed up in the report) as it happens above it.
+        const auto wall0 = std::chrono::steady_clock::now();
+        opts.progress = [&sc, wall0, shown = size_t{0}, drawn = -1.0](double t, double, const std::vector<sim::Event>& events) mutable {
+            bool printed = false;
+            for (; shown < events.size(); ++shown) {
+                if (events[shown].kind == "fallback" || events[shown].kind == "timeout") continue;
+                std::fprintf(stderr, "\r\033[K%s\n", io::event_line(sc, events[shown]).c_str());
+                printed = true;
+            }
+            const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+            if (!printed && drawn >= 0 && wall - drawn < 0.1) return;  // at most ten redraws a second
+            drawn = wall;
+            std::fprintf(stderr, "\r\033[K%s: %.1f / %.1f s simulated, %.0fx real time", sc.name.c_str(), t, sc.timeout,
+                         wall > 0 ? t / wall : 0.0);
             std::fflush(stderr);
         };
     }

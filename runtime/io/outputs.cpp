@@ -192,6 +192,18 @@ std::string write_outputs(const std::string& dir, const ir::Program& p, int scen
     return "";
 }
 
+std::string event_line(const ir::Scenario& sc, const sim::Event& ev) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "  %7.2f s  %s", ev.time, ev.kind.c_str());
+    std::string o = buf;
+    for (int v : ev.vehicles) o += " " + sc.vehicles.at(static_cast<size_t>(v)).name;
+    if (ev.kind == "collision") {
+        std::snprintf(buf, sizeof buf, " (%.1f m/s, %s)", ev.relative_speed, ev.zone.c_str());
+        o += buf;
+    }
+    return o;
+}
+
 std::string report(const ir::Program& p, int scenario, const sim::RunResult& r) {
     const ir::Scenario& sc = p.scenarios.at(static_cast<size_t>(scenario));
     std::ostringstream o;
@@ -210,14 +222,7 @@ std::string report(const ir::Program& p, int scenario, const sim::RunResult& r) 
     }
     for (const auto& ev : r.events) {
         if (ev.kind == "timeout" || ev.kind == "fallback") continue;
-        std::snprintf(buf, sizeof buf, "  %7.2f s  %s", ev.time, ev.kind.c_str());
-        o << buf;
-        for (int v : ev.vehicles) o << " " << sc.vehicles[static_cast<size_t>(v)].name;
-        if (ev.kind == "collision") {
-            std::snprintf(buf, sizeof buf, " (%.1f m/s, %s)", ev.relative_speed, ev.zone.c_str());
-            o << buf;
-        }
-        o << "\n";
+        o << event_line(sc, ev) << "\n";
     }
     // Fallback: how much of each driver's planning found no feasible trajectory (the emergency
     // fallback of docs/language.md), most first; many vehicles are summed up after the first five.

@@ -28,5 +28,7 @@ std::string write_outputs(const std::string& dir, const ir::Program& p, int scen
                           const Recording& rec, const RunInfo& info);
 // The short report printed on stdout.
 std::string report(const ir::Program& p, int scenario, const sim::RunResult& r);
+// One event as the report lists it ("    3.40 s  collision car p1 (1.8 m/s, front)").
+std::string event_line(const ir::Scenario& sc, const sim::Event& ev);
 
 }  // namespace sdv::io

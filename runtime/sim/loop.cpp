@@ -64,6 +64,7 @@ struct Simulation::State {
     RunResult out;
     std::optional<GroundTruth> truth;
     std::optional<ProgressMonitor> progress;
+    size_t events_reported = 0;  // events the progress callback has been given
     std::optional<Pool> pool;
     std::chrono::steady_clock::time_point wall0;
     int total_ticks = 0, period = 1, tick = 0;
@@ -185,7 +186,10 @@ bool Simulation::step() {
     advance_to(tick + 1);
     out.timing.tick_us.add(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - tick0).count());
     if (w.options.realtime) std::this_thread::sleep_until(st.wall0 + std::chrono::duration<double>((tick + 1) * w.dt));
-    if (w.options.progress && (tick + 1) % 30 == 0) w.options.progress(static_cast<double>(tick + 1) / st.total_ticks);
+    if (w.options.progress && ((tick + 1) % 30 == 0 || out.events.size() != st.events_reported)) {
+        st.events_reported = out.events.size();
+        w.options.progress((tick + 1) * w.dt, static_cast<double>(tick + 1) / st.total_ticks, out.events);
+    }
     return true;
 }
 

@@ -23,6 +23,14 @@ namespace sdv::sim {
 
 class RoadCache;
 
+struct Event {
+    double time = 0;
+    std::string kind;  // collision, goal_reached, goal_overshot, fallback, timeout
+    std::vector<int> vehicles;
+    double relative_speed = 0;
+    std::string zone;
+};
+
 struct RunOptions {
     std::optional<uint64_t> seed;  // overrides the scenario's
     // Roads shared with other runs of this process (runtime/sim/road_cache.h); null: built here.
@@ -30,15 +38,9 @@ struct RunOptions {
     int threads = 1;
     bool trace = false;             // decisions.jsonl
     bool realtime = false;          // pace to the wall clock (never changes the states)
-    std::function<void(double fraction)> progress;
-};
-
-struct Event {
-    double time = 0;
-    std::string kind;  // collision, goal_reached, goal_overshot, fallback, timeout
-    std::vector<int> vehicles;
-    double relative_speed = 0;
-    std::string zone;
+    // Called every 30 ticks and at every tick that adds events: the simulated time, the
+    // fraction of the run done, and the events so far (a terminal's progress line).
+    std::function<void(double time, double fraction, const std::vector<Event>& events)> progress;
 };
 
 // Metrics of a pair over the run or a window (SPEC §3.10). A minimum never measured stays
