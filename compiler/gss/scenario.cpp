@@ -594,7 +594,9 @@ private:
         if (auto c = tags.find("collision_vehicle_vid"); c != tags.end()) {
             // The reference's ensured collision: timed to meet that vehicle (`meet v<vid>`).
             const auto id = number(c->second, who, "collision_vehicle_vid");
-            if (id && (*id != std::floor(*id) || *id < 0 || *id > 1e6)) {
+            if (id && *id == -1) {
+                // -1: none (the default of the reference's MKeepInLaneConfig)
+            } else if (id && (*id != std::floor(*id) || *id < 0 || *id > 1e6)) {
                 diags_.error("E0911", c->second.range, who + ": 'collision_vehicle_vid' must be a vehicle id");
             } else if (id) {
                 meet = static_cast<int>(*id);

@@ -110,7 +110,9 @@ void plan_cycle(const World& w, Agent& a, double t0) {
     // line, every start braked again by the next cycle's stop.
     const auto& start = in.request.start;
     const double from_held = held != nullptr ? t_start - held->start : 0;
+    // (Not for a stop before a pedestrian: a plan in force that drives on would run into it.)
     const bool at_stop_point = sel >= 0 && in.config.kind == catalog::ManeuverKind::stop && in.config.stop_at != planner::StopTarget::now &&
+                               in.config.stop_at != planner::StopTarget::pedestrian &&
                                std::fabs(start.s_d) > kStopSpeed && in.request.stop_s - in.config.stop_before - start.s < kStopReplan;
     const bool keep_held = at_stop_point && !commit && held != nullptr && !d.pending && held->ref == d.ref && from_held >= 0 &&
                            held->traj.duration - from_held >= 1.0 &&
