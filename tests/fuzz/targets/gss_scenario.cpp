@@ -83,7 +83,8 @@ void check_no_injection(const std::string& path, const std::string& text, const 
         goal_enders += v.btype == "SDV" && v.goal_ends_simulation;
     }
     const size_t expects = (sc->collision ? 1 : 0) + (goal_enders ? goal_enders + 1 : sdv);
-    const size_t vehicles = sc->vehicles.size() + sc->objects.size() + sc->pedestrians.size();
+    // Every agent: vehicles, objects, pedestrians, and the ego an egostart adds (vehicle 99).
+    const size_t vehicles = sc->vehicles.size() + sc->objects.size() + sc->pedestrians.size() + (sc->egostart ? 1 : 0);
     if (s.vehicles.size() != vehicles || s.lights.size() != sc->lights.size() || s.expect_roots.size() != expects) {
         fuzz::fail(kTarget, "the converted scenario has " + std::to_string(s.vehicles.size()) + " vehicles, " +
                                 std::to_string(s.lights.size()) + " lights, " + std::to_string(s.expect_roots.size()) +
