@@ -150,21 +150,25 @@ Trajectory plan_fallback(const FrenetState& start, double max_decel) {
 bool stays_clear(const Trajectory& tr, double from, double horizon, const PlanRequest& req) {
     const Footprint own = footprint(req.length_m, req.width_m);
     constexpr int kPoints = 13;
+    // As in plan(): an obstacle within the margin already at the start counts by its circles only.
     const FrenetState f0 = tr.at(from);
+    thread_local std::vector<double> floors;
+    floors.clear();
+    for (const Obstacle& o : req.obstacles) {
+        floors.push_back(margin_floor(clearance(own, f0.s, f0.d, footprint(o.length_m, o.width_m), o.state.s, o.d_at(0))));
+    }
     for (int e = 0; e < kPoints; ++e) {
         const double t = horizon * e / (kPoints - 1);
         const FrenetState f = tr.at(from + t);
         const bool standing = std::fabs(f.s_d) < kStandingSpeed && std::fabs(f.d_d) < kStandingSpeed;
-        for (const Obstacle& o : req.obstacles) {
+        for (size_t oi = 0; oi < req.obstacles.size(); ++oi) {
+            const Obstacle& o = req.obstacles[oi];
             if (is_follower(o, req.start, req.length_m, req.width_m)) continue;
             // Standing still can be no one's fault: only moving can conflict.
             if (standing) continue;
             const double os = o.state.s + o.state.s_d * t, od = o.d_at(t);
             if (std::fabs(os - f.s) > 0.5 * (req.length_m + o.length_m) + 6.0 || std::fabs(od - f.d) > 6.0) continue;
-            // As in plan(): within the margin already at the start, only the circles count.
-            const Footprint of = footprint(o.length_m, o.width_m);
-            const double floor = margin_floor(clearance(own, f0.s, f0.d, of, o.state.s, o.d_at(0)));
-            if (clearance(own, f.s, f.d, of, os, od) < floor) return false;
+            if (clearance(own, f.s, f.d, footprint(o.length_m, o.width_m), os, od) < floors[oi]) return false;
         }
     }
     return true;
