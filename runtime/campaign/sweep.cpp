@@ -118,8 +118,13 @@ std::string read_text(const std::string& path, bool& ok) {
     return ss.str();
 }
 
+// Writes `text` to `path` through a temporary file and a rename. The temporary name is the
+// writer's own (process and a per-process counter): the array tasks of one Slurm sweep write the
+// same manifest at the same moment, and a shared ".part" would let one task rename the other's
+// file away from under it.
 bool write_atomic(const std::string& path, const std::string& text) {
-    const std::string part = path + ".part";
+    static std::atomic<uint64_t> counter{0};
+    const std::string part = path + "." + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".part";
     {
         std::ofstream o(part, std::ios::binary);
         o << text;
@@ -127,7 +132,9 @@ bool write_atomic(const std::string& path, const std::string& text) {
     }
     std::error_code ec;
     fs::rename(part, path, ec);
-    return !ec;
+    if (!ec) return true;
+    fs::remove(part, ec);
+    return false;
 }
 
 // The complete rows in `text` (lines ending in '\n' whose first cell is a variant index);
