@@ -10,6 +10,8 @@
 #include <set>
 #include <sstream>
 
+#include "runtime/road/lane_geometry.h"
+
 namespace sdv::road {
 namespace {
 
@@ -232,27 +234,6 @@ struct Bound {
         return b;
     }
 };
-// The number of points that sample a bound of this length every 0.5 m or less.
-int samples_for(double bound_length) {
-    return std::max(2, static_cast<int>(std::ceil(bound_length / 0.5)) + 1);
-}
-
-// n points at equal arc-length fractions of a polyline (of at least two points).
-std::vector<Vec2> resample(const std::vector<Vec2>& p, int n) {
-    std::vector<double> acc = {0};
-    for (size_t i = 1; i < p.size(); ++i)
-        acc.push_back(acc.back() + distance(p[i - 1], p[i]));
-    std::vector<Vec2> out;
-    size_t j = 0;
-    for (int i = 0; i < n; ++i) {
-        const double t = acc.back() * i / (n - 1);
-        while (j + 2 < p.size() && acc[j + 1] < t) ++j;
-        const double seg = acc[j + 1] - acc[j];
-        const double f = seg > 0 ? std::clamp((t - acc[j]) / seg, 0.0, 1.0) : 0.0;
-        out.push_back(p[j] + f * (p[j + 1] - p[j]));
-    }
-    return out;
-}
 
 // ---- Pedestrian areas: crosswalk and walkway lanelets, walkway multipolygons.
 
@@ -669,15 +650,13 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
                                " km long; sdv reads lanelets up to 50 km (split it)");
             return r;  // the lanelets after it are not built: the map is refused
         }
-        const int n = samples_for(bound_length);
-        const auto ls = resample(lp, n), rs = resample(rp, n);
+        auto between = centre_between(lp, rp);
         Lane lane;
         lane.name = std::to_string(a.id) + (a.inverted ? kInvertedSuffix : "");
-        for (int i = 0; i < n; ++i)
-            lane.centre.push_back(0.5 * (ls[static_cast<size_t>(i)] + rs[static_cast<size_t>(i)]));
+        lane.centre = std::move(between.centre);
         lane.left_bound = lp;
         lane.right_bound = rp;
-        lane.width = distance(ls[static_cast<size_t>(n / 2)], rs[static_cast<size_t>(n / 2)]);
+        lane.width = between.width;
         const std::string location = rel.tags.count("location") ? rel.tags.at("location") : "urban";
         lane.speed_limit = location == "nonurban" ? 100 / 3.6 : 50 / 3.6;
         if (rel.tags.count("speed_limit")) {

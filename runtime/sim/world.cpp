@@ -7,7 +7,7 @@
 #include <cstdio>
 
 #include "runtime/road/builtin_road.h"
-#include "runtime/road/lanelet2_reader.h"
+#include "runtime/road/commonroad_reader.h"
 #include "runtime/sim/agents.h"
 #include "runtime/sim/path.h"
 
@@ -160,7 +160,7 @@ std::string World::make_road(road::RoadNetwork& out) const {
         case ir::RoadKind::lanelet2: {
             std::optional<road::GeoOrigin> origin;
             if (r.has_origin) origin = road::GeoOrigin{r.origin_lat, r.origin_lon, r.origin_alt};
-            auto l = road::load_lanelet2(r.map_file, origin);
+            auto l = road::load_map(r.map_file, origin);  // Lanelet2 or CommonRoad, by content
             if (!l.errors.empty()) return at + ": map '" + r.map_file + "': " + l.errors.front();
             out = std::move(*l.network);
             break;
