@@ -35,6 +35,7 @@
 #include <unistd.h>
 
 #include "cli/campaign.h"
+#include "cli/realism.h"
 #include "cli/common.h"
 #include "runtime/campaign/variants.h"
 #include "runtime/io/junit.h"
@@ -799,12 +800,47 @@ int run(int argc, char** argv) {
     view_cmd->add_option("run_dir", view_dir, "a run output directory (sdv run -o; --trace adds the decisions), or a sweep's (sdv sweep -o)")->required();
     view_cmd->add_option("-o,--output", view_out, "HTML file (default RUN_DIR/report.html; '-' for stdout)");
 
-    std::string convert_file, convert_out;
-    auto* convert_cmd = app.add_subcommand("convert", "convert a GeoScenario scenario (.osm) or behavior tree "
-                                                      "(.btree) into .sdv source");
-    convert_cmd->add_option("file", convert_file, ".gs.osm scenario or .btree file")->required();
+    std::string convert_file, convert_out, convert_map, convert_sdv;
+    auto* convert_cmd = app.add_subcommand("convert", "convert a GeoScenario scenario (.osm), behavior tree (.btree) or "
+                                                      "recorded traffic (CommonRoad .xml, INTERACTION .csv) into .sdv source");
+    convert_cmd->add_option("file", convert_file, ".gs.osm scenario, .btree file or recording")->required();
     convert_cmd->add_option("-o,--output", convert_out, "output .sdv file ('-' for stdout, the default)");
+    convert_cmd->add_option("--map", convert_map, "a recording's Lanelet2 map (INTERACTION tracks)");
+    convert_cmd->add_option("--sdv", convert_sdv, "a recording: replace this recorded vehicle by an SDV");
     add_common(convert_cmd);
+
+    ReplayArgs replay_args;
+    auto* realism_replay = app.add_subcommand("replay", "replace recorded vehicles by SDVs one at a time, everything else as "
+                                                        "recorded, and measure how far each drives from its recording (STED)");
+    realism_replay->add_option("recording", replay_args.recording, "CommonRoad scenario (.xml) or INTERACTION track file (.csv)")
+        ->required();
+    realism_replay->add_option("--map", replay_args.map, "the Lanelet2 map of INTERACTION tracks (local metres)");
+    realism_replay->add_option("--sdv", replay_args.sdv, "the recorded vehicles replaced: an id, a comma-separated list, or all (default)");
+    realism_replay->add_option("--tree", replay_args.tree,
+                               "the SDVs' tree call, e.g. 'std.drive(speed = 12 m/s, time_gap = 1.5 s)' (default std.drive at the "
+                               "start lane's speed limit)");
+    realism_replay->add_option("--import", replay_args.imports, "a .sdv file the tree comes from (repeatable)");
+    realism_replay->add_option("-j,--jobs", replay_args.jobs, "replays run at once (default: every core; results do not depend on it)")
+        ->check(CLI::Range(1, 1024));
+    realism_replay->add_option("-o,--output", replay_args.out, "output directory (default out/<recording>-replay)");
+    add_common(realism_replay);
+
+    CalibrateArgs calib_args;
+    auto* calibrate_cmd = app.add_subcommand("calibrate", "fit driving-style parameters (a tree's arguments) to a recording: "
+                                                          "minimise mean STED on training vehicles, report held-out STED");
+    calibrate_cmd->add_option("recording", calib_args.recording, "CommonRoad scenario (.xml) or INTERACTION track file (.csv)")
+        ->required();
+    calibrate_cmd->add_option("--params", calib_args.params, "the parameters fitted: NAME or NAME=LO..HI, comma-separated")->required();
+    calibrate_cmd->add_option("--map", calib_args.map, "the Lanelet2 map of INTERACTION tracks (local metres)");
+    calibrate_cmd->add_option("--sdv", calib_args.sdv, "the recorded vehicles used: ids, comma-separated, or all (default)");
+    calibrate_cmd->add_option("--tree", calib_args.tree, "the tree whose parameters are fitted, as a call (default std.drive())");
+    calibrate_cmd->add_option("--import", calib_args.imports, "a .sdv file the tree comes from (repeatable)");
+    calibrate_cmd->add_option("--split", calib_args.split, "the share of vehicles used for training (default 0.7); the rest are held out");
+    calibrate_cmd->add_option("--seed", calib_args.seed, "seed of the training/held-out split and the optimiser (default 1)");
+    calibrate_cmd->add_option("--budget", calib_args.budget, "objective evaluations (default 60)");
+    calibrate_cmd->add_option("-j,--jobs", calib_args.jobs, "replays run at once (default: every core)")->check(CLI::Range(1, 1024));
+    calibrate_cmd->add_option("-o,--output", calib_args.out, "output directory (default out/<recording>-calibrate)");
+    add_common(calibrate_cmd);
 
     auto* check_ir = app.add_subcommand("check-ir", "validate a .sdvir file (format, version, hash, "
                                                     "structure)");
@@ -844,7 +880,12 @@ int run(int argc, char** argv) {
     if (lint->parsed()) return cmd_lint(lint_files, common, warnings, lint_quiet);
     if (compile->parsed()) return cmd_compile(compile_file, compile_out, emit, common, warnings);
     if (cat->parsed()) return cmd_catalog(catalog_format, catalog_trees);
-    if (convert_cmd->parsed()) return cmd_convert(convert_file, convert_out, common, warnings);
+    if (convert_cmd->parsed()) {
+        if (is_recording_path(convert_file)) return cmd_convert_recording(convert_file, convert_map, convert_sdv, convert_out, common);
+        return cmd_convert(convert_file, convert_out, common, warnings);
+    }
+    if (realism_replay->parsed()) return cmd_replay(replay_args, common);
+    if (calibrate_cmd->parsed()) return cmd_calibrate(calib_args, common);
     if (sweep_cmd->parsed()) return cmd_sweep(sweep_args, common, warnings);
     if (search_cmd->parsed()) return cmd_search(search_args, common, warnings);
     if (view_cmd->parsed()) {
