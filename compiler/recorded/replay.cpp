@@ -1,5 +1,6 @@
 #include "compiler/recorded/replay.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -139,17 +140,21 @@ ReplaySource replay_source(const realism::Recording& rec, const road::RoadNetwor
         o << "        start at (" << num(s0.x) << " m, " << num(s0.y) << " m) heading " << heading_deg(s0.heading) << " deg\n";
         o << "        speed " << num(s0.speed) << " m/s\n";
         o << "        length " << num(sdv->length) << " m\n        width " << num(sdv->width) << " m\n";
-        if (route.lanes.size() > 1) {
+        {
             o << "        route ";
             for (size_t i = 0; i < route.lanes.size(); ++i)
                 o << (i ? ", " : "") << "lane " << quoted(net.lane(route.lanes[i]).name);
             o << "\n";
         }
-        o << "        goal lane " << quoted(net.lane(route.goal_lane).name) << " at " << num(route.goal_s) << " m\n";
+        // No goal: an SDV stops at its goal, and the recorded vehicle did not stop where its
+        // recording ends. The route (the recorded lanes, continued `goal_beyond` metres) says
+        // where it goes.
         std::string call = spec.tree;
         if (call.empty()) {
+            // std.drive at the start lane's speed limit, unless the speed is being set.
+            const bool speed_set = std::any_of(spec.params.begin(), spec.params.end(), [](const auto& p) { return p.first == "speed"; });
             const auto start = net.locate({s0.x, s0.y}, s0.heading);
-            call = "std.drive(speed = " + num(net.lane(start.lane).speed_limit) + " m/s)";
+            call = speed_set ? "std.drive()" : "std.drive(speed = " + num(net.lane(start.lane).speed_limit) + " m/s)";
         }
         if (!spec.params.empty()) {
             const size_t close = call.rfind(')');

@@ -2,6 +2,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <cmath>
@@ -141,6 +144,63 @@ std::string view_report(const std::string& run_dir, std::string& error) {
         v.d.push_back(f[10]);
         v.lane.push_back(index_of(lanes, lane_idx, f[11]));
         v.maneuver.push_back(index_of(maneuvers, man_idx, f[12].empty() ? "none" : f[12]));
+    }
+    // A replay (sdv replay) keeps the replaced vehicle's recording in recorded.csv
+    // (vehicle,t,x,y,heading,speed): shown as one more agent of kind "recorded", sampled at the
+    // run's ticks within the recorded span, next to the simulated one.
+    std::string recorded_text;
+    if (read(dir / "recorded.csv", recorded_text) && !times.empty()) {
+        struct Rec {
+            double t, x, y, h, v;
+        };
+        std::vector<Rec> pts;
+        std::string rec_name;
+        std::istringstream rl(recorded_text);
+        std::getline(rl, line);
+        while (std::getline(rl, line)) {
+            std::vector<std::string> f;
+            std::stringstream ls(line);
+            for (std::string c; std::getline(ls, c, ',');) f.push_back(c);
+            if (f.size() != 6) continue;
+            char* e = nullptr;
+            Rec r{std::strtod(f[1].c_str(), &e), std::strtod(f[2].c_str(), nullptr), std::strtod(f[3].c_str(), nullptr),
+                  std::strtod(f[4].c_str(), nullptr), std::strtod(f[5].c_str(), nullptr)};
+            if (!pts.empty() && !(r.t > pts.back().t)) continue;
+            rec_name = f[0];
+            pts.push_back(r);
+        }
+        if (pts.size() >= 2) {
+            Series v;
+            v.name = rec_name + " recorded";
+            v.kind = "recorded";
+            v.first = -1;
+            size_t k = 0;
+            char buf[32];
+            auto put = [&](std::vector<std::string>& col, double x, int digits) {
+                std::snprintf(buf, sizeof buf, "%.*f", digits, x);
+                col.emplace_back(buf);
+            };
+            for (size_t tick = 0; tick < times.size(); ++tick) {
+                const double t = std::strtod(times[tick].c_str(), nullptr);
+                if (t < pts.front().t - 1e-9 || t > pts.back().t + 1e-9) {
+                    if (v.first >= 0) break;
+                    continue;
+                }
+                if (v.first < 0) v.first = static_cast<long>(tick);
+                while (k + 2 < pts.size() && pts[k + 1].t <= t) ++k;
+                const double f = std::clamp((t - pts[k].t) / (pts[k + 1].t - pts[k].t), 0.0, 1.0);
+                put(v.x, pts[k].x + f * (pts[k + 1].x - pts[k].x), 4);
+                put(v.y, pts[k].y + f * (pts[k + 1].y - pts[k].y), 4);
+                put(v.yaw, f < 0.5 ? pts[k].h : pts[k + 1].h, 4);
+                put(v.speed, pts[k].v + f * (pts[k + 1].v - pts[k].v), 4);
+                v.accel.emplace_back("0");
+                v.s.emplace_back("");
+                v.d.emplace_back("");
+                v.lane.push_back(index_of(lanes, lane_idx, ""));
+                v.maneuver.push_back(index_of(maneuvers, man_idx, "recorded"));
+            }
+            if (v.first >= 0) vehicles.push_back(std::move(v));
+        }
     }
     // Sizes from the summary (written by sdv run); defaults otherwise.
     std::map<std::string, std::pair<double, double>> sizes;

@@ -398,8 +398,7 @@ Recording read_recording(const std::string& path, const std::string& map_path) {
     }
     Recording r = parse_interaction(text, path);
     r.map_path = map_path;
-    if (map_path.empty() && r.errors.empty())
-        r.errors.push_back(path + ": an INTERACTION track file needs its Lanelet2 map (--map)");
+    if (map_path.empty()) r.errors.push_back(path + ": an INTERACTION track file needs its Lanelet2 map (--map)");
     return r;
 }
 

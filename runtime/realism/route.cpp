@@ -62,6 +62,7 @@ RecordedRoute recorded_route(const road::RoadNetwork& net, const Track& track, d
         s = 0;
         if (std::find(out.lanes.begin(), out.lanes.end(), lane) == out.lanes.end()) out.lanes.push_back(lane);
     }
+    out.has_goal = left <= 0;
     out.goal_lane = lane;
     // A little short of a lane's end, so that the goal lies on it.
     out.goal_s = std::clamp(s, 0.0, std::max(0.0, net.lane(lane).length - 0.5));
