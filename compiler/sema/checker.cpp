@@ -75,10 +75,10 @@ diag::Diagnostic* Checker::error(const std::string& code, SourceRange r, const s
         auto it = instance_error_index_.find(key);
         if (first) {
             instance_error_index_[key] = instance_errors_.size();
-            instance_errors_.push_back({code, r, instance_->of, {instance_->label}});
+            instance_errors_.push_back({code, r, instance_->of, {instance_->label}, {instance_->label}});
         } else if (it != instance_error_index_.end()) {
-            auto& labels = instance_errors_[it->second].labels;
-            if (labels.back() != instance_->label) labels.push_back(instance_->label);
+            auto& e = instance_errors_[it->second];
+            if (e.seen.insert(instance_->label).second) e.labels.push_back(instance_->label);
         }
     }
     if (!first) return &scratch_;

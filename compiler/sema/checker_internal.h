@@ -292,6 +292,7 @@ private:
         SourceRange range;
         std::string of;
         std::vector<std::string> labels;
+        std::set<std::string> seen;
     };
     std::vector<InstanceErrors> instance_errors_;
     std::map<std::tuple<std::string, uint32_t, uint32_t, std::string>, size_t> instance_error_index_;

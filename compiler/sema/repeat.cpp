@@ -283,8 +283,12 @@ const ast::ScenarioDecl& Checker::expand_templates(const ast::ScenarioDecl& s) {
         if (v.is_ego) {
             auto* d = error("E0512", r.range, "the ego cannot be repeated: a scenario has one ego");
             d->notes.push_back({{}, "declare the others as 'vehicle " + v.name.text + "[...]: KIND { ... }'"});
+            // Checked as its first instance would be, so that its body is not a second error.
             ast::VehicleDecl one = v;
             one.repeat.reset();
+            if (r.lo.kind == ast::Primary::Kind::quantity && r.lo.quantity.is_integer) {
+                Substitute{r.var ? r.var->text : "i", static_cast<int64_t>(r.lo.quantity.value)}.agent(one);
+            }
             c->vehicles.push_back(std::move(one));
             continue;
         }
