@@ -81,10 +81,22 @@ spread : PLUSMINUS primary ;
 samples : SAMPLES INT method? ;
 method : ident ('(' value ')')? ;
 primary
-    : quantity
-    | qualName
+    : factor (op+=('+' | '-' | '*') factor | op+='/' divisor)*
     | STRING
     ;
+// Arithmetic on quantities (`20 m + 25 m * i`, `(20 + 25*i) m`): a flat list of factors and
+// operators (the builder applies precedence), so that a plain value costs the parser one rule
+// more than before and a long sum does not nest. A unit after a closing parenthesis applies to
+// the plain number inside. After `/` a name would read as a unit (`m/s`), so a divisor is a
+// number or a parenthesis (`(100 / (i)) m`): the parser never needs more than two tokens to
+// tell a unit from a quotient.
+factor
+    : quantity                                            # quantityFactor
+    | sign='-'? qualName                                  # nameFactor
+    | group                                               # groupFactor
+    ;
+divisor : quantity | group ;
+group : sign='-'? '(' primary ')' unit? ;
 quantity : sign=('-' | '+')? number unit? ;
 number : INT | FLOAT ;
 unit
@@ -102,12 +114,16 @@ scenarioStmt
     | TIMEOUT value                                       # scenarioTimeout
     | SEED INT                                            # scenarioSeed
     | RATE ident value                                    # scenarioRate
-    | (EGO | VEHICLE | PEDESTRIAN) ident ':' ident '{' vehicleStmt* '}'   # scenarioVehicle
-    | OBJECT ident '{' vehicleStmt* '}'                   # scenarioObject
+    | (EGO | VEHICLE | PEDESTRIAN) ident repeat? ':' ident '{' vehicleStmt* '}'   # scenarioVehicle
+    | OBJECT ident repeat? '{' vehicleStmt* '}'           # scenarioObject
     | LIGHT qualName '{' lightStmt* '}'                   # scenarioLight
     | EXPECT expr window?                                 # scenarioExpect
     | VARY '{' varyStmt* '}'                              # scenarioVary
     ;
+
+// Many similar agents: `vehicle v[1..50]: sdv { ... }` declares v1 .. v50, the body evaluated
+// with the index (`i`, or the name given: `v[k = 1..50]`) bound to each value.
+repeat : '[' (ident '=')? primary DOTDOT primary ']' ;
 
 // A campaign: the parameters a sweep varies and how it samples them (docs/campaigns.md).
 varyStmt

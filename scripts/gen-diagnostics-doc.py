@@ -76,6 +76,13 @@ ENTRIES = {
               "A range or `samples` on a parameter that cannot be sampled (see the catalog's "
               "sampleable column), or on a scenario setting."),
     "E0206": ("invalid choice", "The word is not one of the parameter's choices; the note lists them."),
+    "E0207": ("invalid arithmetic",
+              "Arithmetic on quantities (`20 m + 25 m * i`, `(20 + 25 * i) m`, docs/language.md "
+              "\"Many agents\") adds terms of different dimensions, multiplies or divides into a "
+              "dimension the language has no unit for (a length times a length), divides by zero, "
+              "puts a unit after a parenthesis that already holds one, or names something other "
+              "than the index of a repeated agent. In a repeated agent the error is reported once, "
+              "at the template, with a note naming the instances it failed for."),
     "E0301": ("value out of range",
               "The value (or an end of its range) lies outside the physical range the catalog "
               "allows: a negative duration, a zero jerk limit, 1e308 m/s."),
@@ -120,6 +127,13 @@ ENTRIES = {
               "timeout. `fallback_used`, `fallback_share` and `timeout()` are counted over the "
               "whole run and take no window."),
     "E0510": ("map file not found", "The map's `file` does not exist (paths are relative to the .sdv file)."),
+    "E0511": ("invalid repeated agent",
+              "The range of a repeated agent (`vehicle v[1..50]`) is not two whole numbers without "
+              "unit (0 or more), is empty (the lower bound above the upper), declares more than "
+              "10,000 agents, or the scenario's agents, templates expanded, exceed 100,000."),
+    "E0512": ("repeated ego",
+              "The ego is declared with a range (`ego e[1..3]`): a scenario has one ego. Declare "
+              "the others as `vehicle NAME[...]`."),
     "E0601": ("unknown vary parameter",
               "A path in a `vary` block names nothing the campaign can vary. Paths are `seed`, "
               "`timeout`, `rate.traffic|planning|latency|sensor_range`, `VEHICLE.speed|length|width`, "

@@ -95,7 +95,7 @@ public:
             for (const auto& st : s.settings) setting(1, st);
             for (const auto& v : s.vehicles) {
                 line(1, v.range, std::string(v.is_object ? "object " : v.is_ego ? "ego " : v.is_pedestrian ? "pedestrian " : "vehicle ") +
-                                     v.name.text + ": " + v.kind.text);
+                                     v.name.text + repeat(v) + ": " + v.kind.text);
                 for (const auto& p : v.starts) line(2, p.range, "start " + position(p));
                 for (const auto& st : v.settings) setting(2, st);
                 for (const auto& p : v.goals) line(2, p.range, "goal " + position(p) + (v.goal_ends_run ? " ends run" : ""));
@@ -162,12 +162,39 @@ private:
         line(depth, s.range, t);
     }
 
+    static std::string repeat(const VehicleDecl& v) {
+        if (!v.repeat) return "";
+        return "[" + (v.repeat->var ? v.repeat->var->text + " = " : std::string()) + primary(v.repeat->lo) + " .. " +
+               primary(v.repeat->hi) + "]";
+    }
+
+    static std::string arith(const Arith& a) {
+        switch (a.kind) {
+            case Arith::Kind::quantity:
+                return a.quantity.text + (a.quantity.unit.empty() ? "" : " " + a.quantity.unit);
+            case Arith::Kind::name: return (a.negate ? "-" : "") + a.name.str();
+            case Arith::Kind::sum:
+            case Arith::Kind::product: {
+                std::string s = "(";
+                for (size_t i = 0; i < a.operands.size(); ++i) {
+                    if (i > 0) s += std::string(" ") + a.ops[i - 1] + " ";
+                    s += arith(a.operands[i]);
+                }
+                return s + ")";
+            }
+            case Arith::Kind::group:
+                return (a.negate ? "-" : "") + arith(a.operands[0]) + (a.unit.empty() ? "" : " " + a.unit);
+        }
+        return "";
+    }
+
     static std::string primary(const Primary& p) {
         switch (p.kind) {
             case Primary::Kind::quantity:
                 return p.quantity.text + (p.quantity.unit.empty() ? "" : " " + p.quantity.unit);
             case Primary::Kind::name: return p.name.str();
             case Primary::Kind::string: return "\"" + p.string + "\"";
+            case Primary::Kind::expr: return p.expr ? arith(*p.expr) : "";
         }
         return "";
     }

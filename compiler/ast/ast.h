@@ -37,11 +37,30 @@ struct Quantity {
     SourceRange unit_range;
 };
 
+struct Arith;
+
 struct Primary {
-    enum class Kind { quantity, name, string } kind = Kind::quantity;
+    // `expr`: arithmetic (`20 m + 25 m * i`); a lone number or name stays a quantity or name.
+    enum class Kind { quantity, name, string, expr } kind = Kind::quantity;
     Quantity quantity;
     QualName name;
     std::string string;  // unescaped
+    std::shared_ptr<const Arith> expr;  // immutable once built: copies share it
+    SourceRange range;
+};
+
+// Arithmetic: a sum or product is a flat list of operands with the operators between them
+// (ops[k] joins operands[k] and operands[k + 1]), so a long sum does not nest; a group is
+// `-(...) unit` (its operand the parenthesised arithmetic). Leaves are numbers and names.
+struct Arith {
+    enum class Kind { quantity, name, sum, product, group } kind = Kind::quantity;
+    Quantity quantity;
+    QualName name;
+    bool negate = false;  // `-name`, `-(...)`
+    std::vector<Arith> operands;
+    std::vector<char> ops;  // '+', '-', '*', '/'
+    std::string unit;       // group: canonical unit after ')'; empty when none
+    SourceRange unit_range;
     SourceRange range;
 };
 
@@ -248,6 +267,20 @@ struct VehicleDecl {
     std::vector<std::vector<Waypoint>> trajectories;
     std::vector<std::vector<PathPoint>> paths;
     std::vector<Ident> meets;  // `meet V`: a path agent times its way to meet V (more than one is an error)
+    // `vehicle v[i = 1..50]: ...`: a template of agents v1 .. v50 (the checker expands it).
+    struct Repeat {
+        std::optional<Ident> var;  // the index variable when named; `i` otherwise
+        Primary lo, hi;
+        SourceRange range;  // from the name to ']'
+    };
+    Boxed<Repeat> repeat;
+    // An agent expanded from a template (set by the checker, never by the parser): how
+    // messages name it ("v7 (i = 7)") and the template it comes from ("v[1..50]").
+    struct Instance {
+        std::string label;
+        std::string of;
+    };
+    std::shared_ptr<const Instance> instance;
     SourceRange range;
 };
 

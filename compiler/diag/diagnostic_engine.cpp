@@ -48,6 +48,16 @@ void DiagnosticEngine::report(Diagnostic d) {
     items_.push_back(std::move(d));
 }
 
+Diagnostic* DiagnosticEngine::find(const std::string& code, SourceRange range) {
+    for (auto it = items_.rbegin(); it != items_.rend(); ++it) {
+        if (it->code == code && it->range.begin.file == range.begin.file &&
+            it->range.begin.offset == range.begin.offset) {
+            return &*it;
+        }
+    }
+    return nullptr;
+}
+
 DiagnosticEngine::Effect DiagnosticEngine::effect(const Diagnostic& d) const {
     if (d.severity != Severity::warning) return Effect::error;
     if (policy_.promoted.count(d.warning_name)) return Effect::error;

@@ -27,6 +27,8 @@ public:
     Diagnostic& warning(std::string code, std::string name, SourceRange range,
                         std::string message);
     void report(Diagnostic d);
+    // The last diagnostic reported with this code at this place, to add a note to later.
+    Diagnostic* find(const std::string& code, SourceRange range);
 
     void set_policy(WarningPolicy policy) { policy_ = std::move(policy); }
     void set_error_limit(size_t n) { limit_ = n; }

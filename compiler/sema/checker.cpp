@@ -56,6 +56,7 @@ Compilation Checker::run(const std::string& display, std::string text) {
         for (const auto& s : u.file->scenarios) check_scenario(s, program);
     }
     warn_unused();
+    attach_instance_notes();
     if (diags_->has_errors()) return out;
     out.program = std::move(program);
     return out;
@@ -67,7 +68,20 @@ diag::Diagnostic* Checker::error(const std::string& code, SourceRange r, const s
     // the subtree reference, with other words for the same mistake.
     auto key = std::make_tuple(code, r.begin.file, r.begin.offset, std::string());
     (void)msg;
-    if (!reported_.insert(key).second) return &scratch_;
+    const bool first = reported_.insert(key).second;
+    // An agent expanded from a template: the error is reported once, at the template, with a
+    // note naming every instance it failed for (attach_instance_notes, repeat.cpp).
+    if (instance_ != nullptr) {
+        auto it = instance_error_index_.find(key);
+        if (first) {
+            instance_error_index_[key] = instance_errors_.size();
+            instance_errors_.push_back({code, r, instance_->of, {instance_->label}, {instance_->label}});
+        } else if (it != instance_error_index_.end()) {
+            auto& e = instance_errors_[it->second];
+            if (e.seen.insert(instance_->label).second) e.labels.push_back(instance_->label);
+        }
+    }
+    if (!first) return &scratch_;
     return &diags_->error(code, r, msg);
 }
 

@@ -7,7 +7,9 @@
 //   trees.cpp      tree declarations and bodies, subtree references, cycles, unused warnings;
 //   roads.cpp      settings, built-in roads, junctions and maps;
 //   scenarios.cpp  scenarios: settings, vehicles, positions and lanes, lights, expectations;
-//   expand.cpp     a vehicle's tree expanded with its arguments into a flat IR instance.
+//   expand.cpp     a vehicle's tree expanded with its arguments into a flat IR instance;
+//   repeat.cpp     arithmetic on quantities, and agent templates (`vehicle v[1..50]`) expanded
+//                  into agents, their errors reported once with the instances they failed for.
 // Nothing outside compiler/sema includes this header.
 #pragma once
 
@@ -37,6 +39,8 @@ using diag::SourceRange;
 inline constexpr int kMaxSamples = 100;
 inline constexpr int kMaxCandidates = 20000;
 inline constexpr int kMaxExpansionDepth = 64;
+inline constexpr int64_t kMaxRepeat = 10000;         // agents of one template
+inline constexpr int64_t kMaxScenarioAgents = 100000;  // agents of one scenario, templates expanded
 
 // ------------------------------------------------------------------ small helpers
 
@@ -149,6 +153,24 @@ private:
     std::optional<TypeInfo> find_type(const ast::Ident& name);
     std::optional<TypeInfo> find_type_quiet(const std::string& name) const;
 
+    // ---------------------------------------------------------------- repeat.cpp
+    // Arithmetic folded to SI: the value, its dimension, and whether it is a whole number
+    // written without unit. nullopt when reported.
+    struct Folded {
+        double si = 0.0;
+        Dim dim = Dim::none;
+        bool integer = true;
+    };
+    std::optional<Folded> fold(const ast::Arith& a, const std::string& what);
+    // The scenario with its agent templates expanded (`s` itself when it has none).
+    const ast::ScenarioDecl& expand_templates(const ast::ScenarioDecl& s);
+    std::optional<int64_t> repeat_bound(const ast::Primary& p);
+    // While checking an expanded agent, errors are noted as failing for it (see error()).
+    void set_instance(const ast::VehicleDecl* v) {
+        instance_ = v != nullptr ? v->instance.get() : nullptr;
+    }
+    void attach_instance_notes();
+
     // ---------------------------------------------------------------- values (values.cpp)
     std::optional<double> to_si(const ast::Primary& p, Dim expected, const std::string& what);
     Eval eval(const ast::Value& v, const Env* env, TypeInfo expect, const std::string& what,
@@ -260,6 +282,20 @@ private:
     std::set<size_t> cyclic_;
     std::set<std::tuple<std::string, uint32_t, uint32_t, std::string>> reported_;
     diag::Diagnostic scratch_;
+    // Agent templates: the expanded scenarios (owned here, the AST keeps what was written),
+    // the instance being checked, and per error first reported for an instance the instances
+    // it failed for (in order of first report).
+    std::vector<std::unique_ptr<ast::ScenarioDecl>> expanded_;
+    const ast::VehicleDecl::Instance* instance_ = nullptr;
+    struct InstanceErrors {
+        std::string code;
+        SourceRange range;
+        std::string of;
+        std::vector<std::string> labels;
+        std::set<std::string> seen;
+    };
+    std::vector<InstanceErrors> instance_errors_;
+    std::map<std::tuple<std::string, uint32_t, uint32_t, std::string>, size_t> instance_error_index_;
 };
 
 }  // namespace sdv::compiler::sema

@@ -12,8 +12,10 @@
 
 namespace sdv::compiler::sema {
 
-void Checker::check_scenario(const ast::ScenarioDecl& s, ir::Program& program) {
+void Checker::check_scenario(const ast::ScenarioDecl& written, ir::Program& program) {
     const size_t errors_before = diags_->error_count();
+    // Agent templates become agents first: everything below sees v1 .. v50 as if written.
+    const ast::ScenarioDecl& s = expand_templates(written);
     const size_t instances_before = program.instances.size();
     ir::Scenario sc;
     sc.name = s.name.text;
@@ -76,9 +78,13 @@ void Checker::check_scenario(const ast::ScenarioDecl& s, ir::Program& program) {
     // Vehicle names first: trees and expectations refer to any of them.
     for (const auto& v : s.vehicles) {
         if (auto it = ctx.vehicle_index.find(v.name.text); it != ctx.vehicle_index.end()) {
+            const ast::VehicleDecl& first = s.vehicles[static_cast<size_t>(it->second)];
+            set_instance(&v);
             auto* d = error("E0108", v.name.range, "duplicate vehicle '" + v.name.text + "'");
-            d->notes.push_back({s.vehicles[static_cast<size_t>(it->second)].name.range,
-                                "first declared here"});
+            set_instance(nullptr);
+            d->notes.push_back({first.name.range, first.instance ? "first declared here, as " + first.instance->label +
+                                                                       " of '" + first.instance->of + "'"
+                                                                 : std::string("first declared here")});
         }
         ctx.vehicle_index.emplace(v.name.text, static_cast<int32_t>(ctx.vehicle_names.size()));
         ctx.vehicle_names.push_back(v.name.text);
@@ -93,9 +99,14 @@ void Checker::check_scenario(const ast::ScenarioDecl& s, ir::Program& program) {
         }
     }
     ctx.ir = &sc;
-    for (const auto& v : s.vehicles) sc.vehicles.push_back(check_vehicle(v, ctx, program));
+    for (const auto& v : s.vehicles) {
+        set_instance(&v);
+        sc.vehicles.push_back(check_vehicle(v, ctx, program));
+    }
+    set_instance(nullptr);
     // `meet V`: V is another agent of the scenario (the runtime resolves it by name).
     for (const auto& v : s.vehicles) {
+        set_instance(&v);
         for (size_t i = 1; i < v.meets.size(); ++i) error("E0504", v.meets[i].range, "duplicate 'meet' of '" + v.name.text + "'");
         if (v.meets.empty()) continue;
         const ast::Ident& m = v.meets[0];
@@ -107,6 +118,7 @@ void Checker::check_scenario(const ast::ScenarioDecl& s, ir::Program& program) {
             error("E0105", m.range, "'" + v.name.text + "' cannot meet itself");
         }
     }
+    set_instance(nullptr);
     check_overlaps(s, sc);
     for (const auto& l : s.lights) check_light(l, ctx);
     for (const auto& e : s.expects) {
@@ -402,12 +414,14 @@ void Checker::check_overlaps(const ast::ScenarioDecl& s, const ir::Scenario& sc)
             const double gap = std::fabs(a.start.s - b.start.s) - 0.5 * (a.length + b.length);
             const double lat = std::fabs(a.start.offset - b.start.offset) - 0.5 * (a.width + b.width);
             if (gap < 0 && lat < 0) {
+                set_instance(&s.vehicles[j]);
                 auto* d = error("E0502", s.vehicles[j].starts.empty() ? s.vehicles[j].name.range
                                                                       : s.vehicles[j].starts[0].range,
                                 "vehicles '" + b.name + "' and '" + a.name + "' start overlapped");
                 d->notes.push_back({s.vehicles[i].starts.empty() ? s.vehicles[i].name.range
                                                                  : s.vehicles[i].starts[0].range,
                                     "'" + a.name + "' starts here"});
+                set_instance(nullptr);
             }
         }
     }

@@ -88,6 +88,25 @@ std::string type_phrase(TypeInfo t) {
 
 // Converts a written number to SI for the expected dimension, or reports why it cannot.
 std::optional<double> Checker::to_si(const ast::Primary& p, Dim expected, const std::string& what) {
+    if (p.kind == ast::Primary::Kind::expr && p.expr) {
+        auto f = fold(*p.expr, what);
+        if (!f) return std::nullopt;
+        if (f->dim == expected) return f->si;
+        if (f->dim == Dim::none) {
+            if (f->si == 0.0 && expected != Dim::ratio) return 0.0;  // 0 needs no unit
+            auto* d = error("E0202", p.range,
+                            "missing unit: " + what + " is " + dim_phrase(expected) +
+                                ", but the arithmetic gives a plain number");
+            d->notes.push_back({{}, "write the unit, " + example_unit(expected) +
+                                        ", on each term or after the parenthesis: '(20 + 25 * i) m'"});
+            return std::nullopt;
+        }
+        auto* d = error("E0201", p.range,
+                        "wrong unit: " + what + " is " + dim_phrase(expected) +
+                            ", but the arithmetic gives " + dim_phrase(f->dim));
+        if (expected != Dim::none) d->notes.push_back({{}, "write " + example_unit(expected)});
+        return std::nullopt;
+    }
     if (p.kind != ast::Primary::Kind::quantity) {
         error("E0204", p.range, "expected " + dim_phrase(expected) + " for " + what +
                                     ", found " +
@@ -173,7 +192,7 @@ Eval Checker::eval(const ast::Value& v, const Env* env, TypeInfo expect, const s
     switch (expect.type) {
         case ParamType::quantity:
         case ParamType::integer: {
-            if (v.lo.kind != ast::Primary::Kind::quantity) {
+            if (v.lo.kind != ast::Primary::Kind::quantity && v.lo.kind != ast::Primary::Kind::expr) {
                 if (v.lo.kind == ast::Primary::Kind::name && v.lo.name.parts.size() == 1 &&
                     env != nullptr && env->tree != nullptr) {
                     auto* d = error("E0104", v.lo.range,
@@ -190,7 +209,14 @@ Eval Checker::eval(const ast::Value& v, const Env* env, TypeInfo expect, const s
                 to_si(v.lo, expect.dim, what);
                 return out;
             }
-            if (expect.type == ParamType::integer &&
+            if (expect.type == ParamType::integer && v.lo.kind == ast::Primary::Kind::expr) {
+                auto f = fold(*v.lo.expr, what);
+                if (!f) return out;
+                if (f->dim != Dim::none || !f->integer) {
+                    error("E0204", v.lo.range, what + " must be a whole number without unit");
+                    return out;
+                }
+            } else if (expect.type == ParamType::integer &&
                 (!v.lo.quantity.is_integer || !v.lo.quantity.unit.empty())) {
                 error("E0204", v.lo.range, what + " must be a whole number without unit");
                 return out;

@@ -557,11 +557,18 @@ bool Checker::probe_bindings(const ast::ScenarioDecl& s, const ast::VaryParam& v
         diag::DiagnosticEngine quiet(sm_);
         diag::DiagnosticEngine* saved = diags_;
         auto saved_reported = std::move(reported_);
+        auto saved_instance_errors = std::move(instance_errors_);
+        auto saved_instance_index = std::move(instance_error_index_);
         reported_.clear();
+        instance_errors_.clear();
+        instance_error_index_.clear();
         diags_ = &quiet;
         check_scenario(copy, probe);
+        attach_instance_notes();
         diags_ = saved;
         reported_ = std::move(saved_reported);
+        instance_errors_ = std::move(saved_instance_errors);
+        instance_error_index_ = std::move(saved_instance_index);
         if (quiet.has_errors()) {
             for (auto d : quiet.sorted()) {
                 if (d.severity != diag::Severity::error) continue;

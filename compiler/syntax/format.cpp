@@ -24,14 +24,67 @@ using sdv_antlr::SdvParser;
 void mark(antlr4::tree::ParseTree* t, std::set<size_t>& starts, std::set<size_t>& items) {
     auto* ctx = dynamic_cast<antlr4::ParserRuleContext*>(t);
     if (ctx == nullptr) return;
-    const bool statement = dynamic_cast<SdvParser::ItemContext*>(ctx) || dynamic_cast<SdvParser::RoadStmtContext*>(ctx) ||
-                           dynamic_cast<SdvParser::JunctionStmtContext*>(ctx) || dynamic_cast<SdvParser::MapStmtContext*>(ctx) ||
-                           dynamic_cast<SdvParser::ScenarioStmtContext*>(ctx) || dynamic_cast<SdvParser::VehicleStmtContext*>(ctx) ||
-                           dynamic_cast<SdvParser::LightStmtContext*>(ctx) || dynamic_cast<SdvParser::VaryStmtContext*>(ctx) || dynamic_cast<SdvParser::WaypointContext*>(ctx) || dynamic_cast<SdvParser::PathPointContext*>(ctx) ||
-                           (dynamic_cast<SdvParser::NodeContext*>(ctx) && !dynamic_cast<SdvParser::DecoratorNodeContext*>(ctx->parent));
+    // Rule indexes, not dynamic casts: this runs on every node of the parse tree.
+    bool statement = false;
+    switch (ctx->getRuleIndex()) {
+        case SdvParser::RuleItem:
+        case SdvParser::RuleRoadStmt:
+        case SdvParser::RuleJunctionStmt:
+        case SdvParser::RuleMapStmt:
+        case SdvParser::RuleScenarioStmt:
+        case SdvParser::RuleVehicleStmt:
+        case SdvParser::RuleLightStmt:
+        case SdvParser::RuleVaryStmt:
+        case SdvParser::RuleWaypoint:
+        case SdvParser::RulePathPoint: statement = true; break;
+        case SdvParser::RuleNode:
+            statement = !dynamic_cast<SdvParser::DecoratorNodeContext*>(ctx->parent);
+            break;
+        default: break;
+    }
     if (statement && ctx->getStart() != nullptr) starts.insert(ctx->getStart()->getTokenIndex());
-    if (dynamic_cast<SdvParser::ItemContext*>(ctx) && ctx->getStart() != nullptr) items.insert(ctx->getStart()->getTokenIndex());
+    if (ctx->getRuleIndex() == SdvParser::RuleItem && ctx->getStart() != nullptr) items.insert(ctx->getStart()->getTokenIndex());
     for (auto* child : ctx->children) mark(child, starts, items);
+}
+
+// Tokens spaced by the parse tree rather than by their text: arithmetic operators (`20 - 5`,
+// `100 / 4`: never a sign or a unit's slash), signs of names and groups (`-(2 * i) m`), and the
+// brackets of a repeated agent (`v[1..50]`).
+struct Spacing {
+    std::set<size_t> binary, glue_right, glue_left, group_open;
+};
+void mark_spacing(antlr4::tree::ParseTree* t, Spacing& sp) {
+    auto* ctx = dynamic_cast<antlr4::ParserRuleContext*>(t);
+    if (ctx == nullptr) return;
+    const size_t rule = ctx->getRuleIndex();
+    const bool arith = rule == SdvParser::RulePrimary;
+    const bool repeat = rule == SdvParser::RuleRepeat;
+    for (auto* child : ctx->children) {
+        auto* leaf = dynamic_cast<antlr4::tree::TerminalNode*>(child);
+        if (leaf == nullptr) {
+            mark_spacing(child, sp);
+            continue;
+        }
+        const size_t idx = leaf->getSymbol()->getTokenIndex();
+        const std::string text = leaf->getText();
+        if (arith && leaf->getSymbol()->getType() != SdvLexer::STRING) sp.binary.insert(idx);
+        if (repeat && (text == "[" || text == "..")) {
+            sp.glue_left.insert(idx);
+            sp.glue_right.insert(idx);
+        }
+    }
+    if (rule == SdvParser::RuleFactor) {
+        if (auto* n = dynamic_cast<SdvParser::NameFactorContext*>(ctx); n != nullptr && n->sign != nullptr) {
+            sp.glue_right.insert(n->sign->getTokenIndex());
+        }
+    } else if (rule == SdvParser::RuleGroup) {
+        auto* g = static_cast<SdvParser::GroupContext*>(ctx);
+        if (g->sign != nullptr) sp.glue_right.insert(g->sign->getTokenIndex());
+        for (auto* child : g->children) {
+            auto* leaf = dynamic_cast<antlr4::tree::TerminalNode*>(child);
+            if (leaf != nullptr && leaf->getText() == "(") sp.group_open.insert(leaf->getSymbol()->getTokenIndex());
+        }
+    }
 }
 
 constexpr size_t kLineWidth = 100;
@@ -55,6 +108,9 @@ std::optional<std::string> format(diag::FileId file, const diag::SourceManager& 
     SdvParser::FileContext* tree = parser.file();
     std::set<size_t> starts, items;
     mark(tree, starts, items);
+    Spacing spacing;
+    mark_spacing(tree, spacing);
+    size_t prev_idx = SIZE_MAX;
 
     std::string out;
     int depth = 0;
@@ -162,6 +218,7 @@ std::optional<std::string> format(diag::FileId file, const diag::SourceManager& 
                 out += tx;
                 prev = tx;
                 prev_type = t->getType();
+                prev_idx = idx;
                 last_comment = false;
                 continue;
             }
@@ -169,11 +226,17 @@ std::optional<std::string> format(diag::FileId file, const diag::SourceManager& 
         if (line_empty) {
             indent();
         } else {
-            const bool call = tx == "(" && (prev_type == SdvLexer::ID || (!prev.empty() && std::isalpha(static_cast<unsigned char>(prev[0])) &&
+            const bool call = tx == "(" && !spacing.group_open.count(idx) && (prev_type == SdvLexer::ID || (!prev.empty() && std::isalpha(static_cast<unsigned char>(prev[0])) &&
                                                                           prev_type != SdvLexer::AT && prev_type != SdvLexer::ORIGIN));
             const bool sign = (prev == "-" || prev == "+") && (prev_type != SdvLexer::PLUSMINUS);
-            const bool unary = sign && (t->getType() == SdvLexer::INT || t->getType() == SdvLexer::FLOAT);
-            if (!(binds_left(tx) || binds_right(prev) || call || unary)) out += " ";
+            const bool unary = sign && !spacing.binary.count(prev_idx) &&
+                               (t->getType() == SdvLexer::INT || t->getType() == SdvLexer::FLOAT);
+            if (spacing.binary.count(idx) || spacing.binary.count(prev_idx)) {
+                out += " ";
+            } else if (!(binds_left(tx) || binds_right(prev) || call || unary || spacing.glue_left.count(idx) ||
+                         spacing.glue_right.count(prev_idx))) {
+                out += " ";
+            }
         }
         out += tx;
         last_comment = false;
@@ -190,6 +253,7 @@ std::optional<std::string> format(diag::FileId file, const diag::SourceManager& 
                 i = k;
                 prev = "}";
                 prev_type = all[k]->getType();
+                prev_idx = all[k]->getTokenIndex();
                 continue;
             }
             newline();
@@ -198,6 +262,7 @@ std::optional<std::string> format(diag::FileId file, const diag::SourceManager& 
         }
         prev = tx;
         prev_type = t->getType();
+        prev_idx = idx;
     }
     if (!line_empty) newline();
     while (out.size() >= 2 && out.substr(out.size() - 2) == "\n\n") out.pop_back();

@@ -346,17 +346,109 @@ private:
     ast::Primary primary(SdvParser::PrimaryContext* c) {
         ast::Primary p;
         p.range = range(c);
-        if (auto* q = c->quantity()) {
-            p.kind = ast::Primary::Kind::quantity;
-            p.quantity = quantity(q);
-        } else if (auto* n = c->qualName()) {
-            p.kind = ast::Primary::Kind::name;
-            p.name = qual(n);
-        } else {
+        if (c->STRING() != nullptr) {
             p.kind = ast::Primary::Kind::string;
             p.string = unescape(c->STRING()->getText());
+            return p;
+        }
+        ast::Arith e = arith(c);
+        if (e.kind == ast::Arith::Kind::quantity) {
+            p.kind = ast::Primary::Kind::quantity;
+            p.quantity = std::move(e.quantity);
+        } else if (e.kind == ast::Arith::Kind::name && !e.negate) {
+            p.kind = ast::Primary::Kind::name;
+            p.name = std::move(e.name);
+        } else {
+            p.kind = ast::Primary::Kind::expr;
+            p.expr = std::make_shared<const ast::Arith>(std::move(e));
         }
         return p;
+    }
+
+    // Factors and operators as written, precedence applied: a sum of products. A sum of one
+    // term is the term, a product of one factor the factor (a lone number stays a quantity).
+    // Recursion is bounded by the parentheses, which the nesting limit caps.
+    ast::Arith arith(SdvParser::PrimaryContext* c) {
+        // The operands in order: factors, and divisors after `/`.
+        std::vector<antlr4::ParserRuleContext*> operands;
+        for (auto* child : c->children) {
+            if (auto* rule = dynamic_cast<antlr4::ParserRuleContext*>(child)) operands.push_back(rule);
+        }
+        if (operands.size() == 1) return operand(operands[0]);
+        std::vector<ast::Arith> terms;
+        std::vector<char> sum_ops;
+        ast::Arith product;
+        product.kind = ast::Arith::Kind::product;
+        auto close = [&](antlr4::ParserRuleContext* last) {
+            if (product.operands.size() == 1) {
+                terms.push_back(std::move(product.operands[0]));
+            } else {
+                product.range.end = range(last).end;
+                terms.push_back(std::move(product));
+            }
+            product = {};
+            product.kind = ast::Arith::Kind::product;
+        };
+        for (size_t k = 0; k < operands.size(); ++k) {
+            if (product.operands.empty()) product.range = range(operands[k]);
+            product.operands.push_back(operand(operands[k]));
+            if (k + 1 == operands.size()) {
+                close(operands[k]);
+                break;
+            }
+            const char op = c->op[k]->getText()[0];
+            if (op == '*' || op == '/') {
+                product.ops.push_back(op);
+            } else {
+                close(operands[k]);
+                sum_ops.push_back(op);
+            }
+        }
+        if (terms.size() == 1) return std::move(terms[0]);
+        ast::Arith a;
+        a.kind = ast::Arith::Kind::sum;
+        a.range = range(c);
+        a.operands = std::move(terms);
+        a.ops = std::move(sum_ops);
+        return a;
+    }
+
+    ast::Arith operand(antlr4::ParserRuleContext* c) {
+        ast::Arith a;
+        a.range = range(c);
+        SdvParser::QuantityContext* q = nullptr;
+        SdvParser::GroupContext* g = nullptr;
+        if (auto* f = dynamic_cast<SdvParser::QuantityFactorContext*>(c)) {
+            q = f->quantity();
+        } else if (auto* n = dynamic_cast<SdvParser::NameFactorContext*>(c)) {
+            a.kind = ast::Arith::Kind::name;
+            a.name = qual(n->qualName());
+            a.negate = n->sign != nullptr;
+            return a;
+        } else if (auto* gf = dynamic_cast<SdvParser::GroupFactorContext*>(c)) {
+            g = gf->group();
+        } else if (auto* d = dynamic_cast<SdvParser::DivisorContext*>(c)) {
+            q = d->quantity();
+            g = d->group();
+        }
+        if (q != nullptr) {
+            a.kind = ast::Arith::Kind::quantity;
+            a.quantity = quantity(q);
+        } else if (g != nullptr) {
+            a.kind = ast::Arith::Kind::group;
+            a.negate = g->sign != nullptr;
+            if (g->primary()->STRING() != nullptr) {
+                error("E0003", range(g->primary()), "syntax error: a string cannot be part of arithmetic");
+                a.operands.push_back({});
+            } else {
+                a.operands.push_back(arith(g->primary()));
+            }
+            if (auto* u = g->unit()) {
+                a.unit = canonical_unit(u);
+                a.unit_range = range(u);
+            }
+        }
+        return a;
     }
 
     ast::Samples samples(SdvParser::SamplesContext* c) {
@@ -710,6 +802,15 @@ private:
         return e;
     }
 
+    ast::VehicleDecl::Repeat repeat(SdvParser::RepeatContext* c, const ast::Ident& name) {
+        ast::VehicleDecl::Repeat r;
+        if (auto* id = c->ident()) r.var = ident(id);
+        r.lo = primary(c->primary(0));
+        r.hi = primary(c->primary(1));
+        r.range = {name.range.begin, range(c).end};
+        return r;
+    }
+
     ast::ScenarioDecl scenario(SdvParser::ScenarioDeclContext* c) {
         ast::ScenarioDecl s;
         s.name = ident(c->ident());
@@ -752,6 +853,7 @@ private:
                 v.name = ident(vh->ident(0));
                 v.kind = ident(vh->ident(1));
                 v.range = range(vh);
+                if (auto* rp = vh->repeat()) v.repeat = repeat(rp, v.name);
                 s.vehicles.push_back(vehicle(vh->vehicleStmt(), std::move(v)));
             } else if (auto* ob = dynamic_cast<SdvParser::ScenarioObjectContext*>(st)) {
                 ast::VehicleDecl v;
@@ -759,6 +861,7 @@ private:
                 v.name = ident(ob->ident());
                 v.kind = {"static", range(ob->OBJECT())};
                 v.range = range(ob);
+                if (auto* rp = ob->repeat()) v.repeat = repeat(rp, v.name);
                 s.vehicles.push_back(vehicle(ob->vehicleStmt(), std::move(v)));
             } else if (auto* li = dynamic_cast<SdvParser::ScenarioLightContext*>(st)) {
                 ast::LightDecl l;
