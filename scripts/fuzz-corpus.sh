@@ -18,7 +18,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=$(cd "$1" && pwd)
 out=$2
 shared=$root/../shared/data
-targets=(sdv_frontend ir_reader btree gss_scenario lanelet2 cosim_frame sweep_results)
+targets=(sdv_frontend ir_reader btree gss_scenario lanelet2 cosim_frame sweep_results recording)
 rm -rf "$out"
 for t in "${targets[@]}"; do mkdir -p "$out/$t"; done
 out=$(cd "$out" && pwd)
@@ -57,6 +57,7 @@ add ir_reader "$root"/tests/golden/**/*.sdvir
 add btree "$root"/tests/golden/**/input.btree "$shared"/geoscenario/btrees/**/*.btree
 add gss_scenario "$root"/tests/golden/**/input.osm "$root"/tests/scenarios/data/*.osm "$shared"/geoscenario/scenarios/**/*.osm
 add lanelet2 "$shared"/lanelet2/*.osm "$shared"/geoscenario/maps/*.osm
+add recording "$shared"/recorded/commonroad/*.xml "$root"/tests/cli/data/realism/*.csv
 # Small maps cut from the big ones: the fuzzer mutates them thousands of times faster.
 for map in "$shared"/lanelet2/mapping_example.osm "$shared"/geoscenario/maps/lanelet2_university_weber_alt.osm \
            "$shared"/geoscenario/maps/ll2_firetower_4waystop.osm "$shared"/geoscenario/maps/lanelet2_ringroad.osm; do

@@ -6,7 +6,7 @@
 #                   [--record|--no-record] [--corpus DIR] [--jobs N] [--no-build]
 #
 # TARGET is a name of tests/fuzz/targets (sdv_frontend ir_reader btree gss_scenario lanelet2
-# cosim_frame sweep_results). The run is bounded by time (MINUTES, default 10) or, with --runs N,
+# cosim_frame sweep_results recording). The run is bounded by time (MINUTES, default 10) or, with --runs N,
 # by the number of inputs executed (the seeds included); --ci is --runs with the target's CI
 # count (below) and --no-build, as scripts/check.sh runs it. It builds the fuzz
 # preset (ASan+UBSan) or, with --no-sanitizers, fuzz-nosan, then gathers the seed corpus once
@@ -22,16 +22,16 @@
 # Exit status: 0 no finding, 1 a finding, 2 usage or build errors.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-targets=(sdv_frontend ir_reader btree gss_scenario lanelet2 cosim_frame sweep_results)
+targets=(sdv_frontend ir_reader btree gss_scenario lanelet2 cosim_frame sweep_results recording)
 
 # The largest input of each target (-max_len): above its biggest real input and the deep seeds
 # of tests/fuzz/gen_deep.py (Lanelet2 maps of ../shared/data reach 730 KB).
 declare -A max_len=([sdv_frontend]=262144 [ir_reader]=262144 [btree]=262144 [gss_scenario]=262144
-                    [lanelet2]=1048576 [cosim_frame]=262144 [sweep_results]=262144)
+                    [lanelet2]=1048576 [cosim_frame]=262144 [sweep_results]=262144 [recording]=1048576)
 # The executions of a CI run (--ci), seeds included: about 20 s each under ASan+UBSan on one
 # core of the development machine (docs/reliability.md has each target's exec/s).
 declare -A ci_runs=([sdv_frontend]=2500 [ir_reader]=15000 [btree]=8000 [gss_scenario]=9000
-                    [lanelet2]=7000 [cosim_frame]=1500 [sweep_results]=15000)
+                    [lanelet2]=7000 [cosim_frame]=1500 [sweep_results]=15000 [recording]=3000)
 
 usage() {
     sed -n '4,8p' "$0" >&2

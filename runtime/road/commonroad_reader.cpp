@@ -1,6 +1,7 @@
 #include "runtime/road/commonroad_reader.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -99,7 +100,12 @@ std::optional<double> sign_speed_limit(const pugi::xml_node& sign) {
 
 }  // namespace
 
-std::string commonroad_light_name(const std::string& id) { return "tl" + id; }
+std::string commonroad_light_name(const std::string& id) {
+    // A name scenarios can write (letters, digits, '_'): the id comes from the file.
+    std::string out = "tl";
+    for (char c : id) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+    return out;
+}
 
 bool is_commonroad(const std::string& xml) {
     // The root element's name, skipping the declaration, comments and whitespace.

@@ -90,6 +90,10 @@ write("gss_scenario", XML | cpp_literals("compiler/gss/scenario.cpp"),
       "GeoScenario 2.0 OSM XML: elements, gs kinds, tag keys and values")
 write("lanelet2", XML | cpp_literals("runtime/road/lanelet2_reader.cpp"),
       "Lanelet2 OSM XML: elements, tags, types, subtypes, roles, regulatory elements")
+write("recording", XML | cpp_literals("runtime/road/commonroad_reader.cpp", "runtime/realism/recording.cpp")
+      | {",", "\n", "track_id,frame_id,timestamp_ms,agent_type,x,y,vx,vy,psi_rad,length,width\n", "car", "pedestrian/bicycle",
+         "<exact>", "</exact>", "<point>", "<x>", "<y>", "drivingDir", "same", "opposite", "R2-1", "redYellow"},
+      "recorded traffic: CommonRoad XML elements and INTERACTION CSV columns")
 write("ir_reader", JSON | cpp_literals("runtime/ir/ir_io.cpp") | cpp_literals("runtime/catalog/catalog.cpp"),
       "the IR's JSON keys and enumerations, catalog names, JSON syntax")
 write("cosim_frame", JSON | proto_names("runtime/cosim/sdv_cosim.proto") | cpp_literals("runtime/cosim/record.cpp", "runtime/cosim/codec.cpp")

@@ -58,3 +58,4 @@ TEST_CASE("gss_scenario") { replay("gss_scenario", sdv_fuzz_gss_scenario); }
 TEST_CASE("lanelet2") { replay("lanelet2", sdv_fuzz_lanelet2); }
 TEST_CASE("cosim_frame") { replay("cosim_frame", sdv_fuzz_cosim_frame); }
 TEST_CASE("sweep_results") { replay("sweep_results", sdv_fuzz_sweep_results); }
+TEST_CASE("recording") { replay("recording", sdv_fuzz_recording); }
