@@ -321,6 +321,12 @@ std::string World::place_agent(Agent& a) {
         a.route.insert(a.route.end(), route.steps.begin() + (a.route.empty() ? 0 : 1), route.steps.end());
         from = via[k];
     }
+    if (a.v->kind == ir::VehicleKind::trajectory && a.v->trajectory.size() >= 2) {
+        // Under way from its first waypoint: at t = 0 it has its first segment's velocity, as
+        // at every later tick (drivers must not see it standing at its start).
+        a.model->advance(*this, a, 0, 1);
+        a.accel = 0;
+    }
     if (a.v->kind == ir::VehicleKind::sdv) {
         a.driver = std::make_unique<Driver>();
         Driver& d = *a.driver;

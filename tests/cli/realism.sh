@@ -65,12 +65,19 @@ cal -o "$tmp/cal1" --jobs 1 > "$tmp/cal.log" 2>&1 || { bad "calibrate exit"; cat
 cal -o "$tmp/cal2" --jobs 2 > /dev/null 2>&1
 same "$tmp/cal1/calibration.json" "$tmp/cal2/calibration.json" "calibration.json identical for --jobs 1 and 2 (seeded)"
 same "$tmp/cal1/calibration.csv" "$tmp/cal2/calibration.csv" "every evaluation identical for --jobs 1 and 2"
-python3 - "$tmp/cal1/calibration.json" <<'PY' && pass "the fit recovers the speed (12 m/s within 0.3) and cuts STED below 0.6 m" || { bad "fit"; cat "$tmp/cal.log"; }
+python3 - "$tmp/cal1/calibration.json" <<'PY' && pass "the fit recovers speed (12 m/s within 0.2) and time gap (1.2 s within 0.1), STED below 0.3 m" || { bad "fit"; cat "$tmp/cal.log"; }
 import json, sys
 j = json.load(open(sys.argv[1]))
 p = {x["name"]: x["fitted"] for x in j["params"]}
-assert abs(p["speed"] - 12) <= 0.3, p
-assert j["training"]["sted_after_m"] < 0.6 and j["training"]["sted_after_m"] < j["training"]["sted_before_m"] / 4, j["training"]
+assert abs(p["speed"] - 12) <= 0.2 and abs(p["time_gap"] - 1.2) <= 0.1, p
+assert j["training"]["sted_after_m"] < 0.3 and j["training"]["sted_after_m"] < j["training"]["sted_before_m"] / 10, j["training"]
+PY
+# With the true parameters, each replay is its original again (the leader replayed from 10 Hz).
+"$sdv" replay "$tmp/tracks.csv" --map "$map" --sdv follower,solo,other --tree "std.drive(speed = 12 m/s, time_gap = 1.2 s)" \
+    -o "$tmp/truth" > /dev/null 2>&1
+python3 - "$tmp/truth/realism.csv" <<'PY' && pass "replays with the true parameters are within 1 cm of their recordings" || { bad "truth"; cat "$tmp/truth/realism.csv"; }
+import csv, sys
+assert all(float(r["max_distance_m"]) < 0.01 for r in csv.DictReader(open(sys.argv[1])))
 PY
 "$sdv" lint "$tmp/cal1/calibrated.sdv" > /dev/null 2>&1 && pass "calibrated.sdv is a tree that compiles" || bad "calibrated.sdv"
 "$sdv" calibrate "$tmp/tracks.csv" --map "$map" --sdv follower,solo,other --params speed --split 0.67 --budget 10 -o "$tmp/cal3" > "$tmp/cal3.log" 2>&1

@@ -1,0 +1,78 @@
+// A trajectory vehicle is under way from its first waypoint: at t = 0 it already has the
+// velocity of its first segment (it used to stand still for the first tick, and every driver
+// that planned from that snapshot braked for a vehicle it took for stopped). Pinned by
+// properties over speeds, road shapes and waypoint kinds: the speed seen at t = 0 is the first
+// segment's, and a driver behind it at its own speed does not slow down.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <string>
+
+#include "runtime/sim/simulation.h"
+#include "runtime/sim/world.h"
+#include "tests/unit/io/compile_text.h"
+
+using namespace sdv;
+
+namespace {
+
+// Speeds of every agent at t = 0 (the snapshot drivers plan their first cycle from) and at 2 s.
+class Speeds final : public sim::RunObserver {
+public:
+    void start(const sim::World& w) override {
+        for (const auto& a : w.agents) at0.push_back(a.speed);
+    }
+    void tick(const sim::World& w, int, double time) override {
+        if (std::fabs(time - 2.0) < 1e-9)
+            for (const auto& a : w.agents) at2.push_back(a.speed);
+    }
+    std::vector<double> at0, at2;
+};
+
+std::string scenario(const std::string& segment, double speed, bool xy) {
+    const double t1 = 100.0 / speed;
+    const std::string wp = xy ? "0 s: at (20 m, -1.75 m) heading 0 deg  " + std::to_string(t1) + " s: at (120 m, -1.75 m) heading 0 deg"
+                              : "0 s: lane 1 at 20 m  " + std::to_string(t1) + " s: lane 1 at 120 m";
+    return R"(import "std/drive.sdv"
+road r {
+    lanes 1 forward
+    )" + segment + R"(
+}
+scenario s {
+    road r
+    timeout 3 s
+    vehicle lead: trajectory { trajectory { )" + wp + R"( } }
+    vehicle follower: sdv {
+        start lane 1 at 2 m
+        speed )" + std::to_string(speed) + R"( m/s
+        tree std.drive(speed = )" + std::to_string(speed) + R"( m/s, time_gap = 1 s)
+    }
+}
+)";
+}
+
+}  // namespace
+
+TEST_CASE("a trajectory vehicle has its first segment's speed at t = 0, and a driver behind it keeps its speed") {
+    for (double speed : {4.0, 8.0, 14.0}) {
+        for (const bool xy : {false, true}) {
+            for (const char* segment : {"straight 400 m", "arc 300 m radius 400 m"}) {
+                if (xy && std::string(segment) != "straight 400 m") continue;  // xy points lie on the straight road
+                CAPTURE(speed);
+                CAPTURE(xy);
+                CAPTURE(segment);
+                auto p = test::compile_text(scenario(segment, speed, xy));
+                REQUIRE(p);
+                Speeds s;
+                const auto r = sim::simulate(*p, 0, {}, &s);
+                REQUIRE(r.error.empty());
+                REQUIRE(s.at0.size() == 2);
+                // Lane waypoints on an arc: the chord is shorter than the arc length.
+                CHECK(s.at0[0] == doctest::Approx(speed).epsilon(0.01));
+                REQUIRE(s.at2.size() == 2);
+                // 18 m behind at its own speed and a 1 s time gap: nothing to brake for.
+                CHECK(s.at2[1] >= 0.97 * speed);
+            }
+        }
+    }
+}
