@@ -2,14 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <fstream>
 #include <map>
 #include <pugixml.hpp>
 #include <set>
 #include <sstream>
 
 #include "runtime/road/commonroad_reader.h"
+#include "runtime/road/reader_text.h"
 
 namespace sdv::realism {
 namespace {
@@ -17,40 +16,9 @@ namespace {
 constexpr double kMaxCoordinate = 1e6;  // m from the origin, as the map readers
 constexpr double kMaxTime = 1e6;        // s
 
-std::optional<double> number(const char* text) {
-    while (*text == ' ' || *text == '\n' || *text == '\t' || *text == '\r') ++text;
-    if (*text == '\0') return std::nullopt;
-    char* end = nullptr;
-    const double v = std::strtod(text, &end);
-    while (*end == ' ' || *end == '\n' || *end == '\t' || *end == '\r') ++end;
-    if (end == text || *end != '\0' || !std::isfinite(v)) return std::nullopt;
-    return v;
-}
-
-bool read_file(const std::string& path, std::string& out) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return false;
-    std::stringstream ss;
-    ss << in.rdbuf();
-    out = ss.str();
-    return true;
-}
-
-class Lines {
-public:
-    explicit Lines(const std::string& text) {
-        for (size_t i = 0; i < text.size(); ++i)
-            if (text[i] == '\n') ends_.push_back(i);
-    }
-    int line(const pugi::xml_node& n) const {
-        const ptrdiff_t off = n.offset_debug();
-        if (off < 0) return 0;
-        return static_cast<int>(std::upper_bound(ends_.begin(), ends_.end(), static_cast<size_t>(off)) - ends_.begin()) + 1;
-    }
-
-private:
-    std::vector<size_t> ends_;
-};
+constexpr auto number = road::parse_number;
+using road::read_file;
+using Lines = road::XmlLines;
 
 // The value of a CommonRoad state field: <field><exact>v</exact></field>; an interval or a
 // missing value is nullopt (`why` says which).

@@ -3,15 +3,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdlib>
-#include <cstring>
-#include <fstream>
 #include <map>
 #include <pugixml.hpp>
 #include <set>
-#include <sstream>
 
 #include "runtime/road/lane_geometry.h"
+#include "runtime/road/reader_text.h"
 
 namespace sdv::road {
 namespace {
@@ -21,33 +18,8 @@ namespace {
 constexpr double kMaxCoordinate = 1e6;
 constexpr double kMaxLaneletLength = 50e3;
 
-// Line numbers of byte offsets, for errors.
-class Lines {
-public:
-    explicit Lines(const std::string& text) {
-        for (size_t i = 0; i < text.size(); ++i)
-            if (text[i] == '\n') ends_.push_back(i);
-    }
-    int line(const pugi::xml_node& n) const {
-        const ptrdiff_t off = n.offset_debug();
-        if (off < 0) return 0;
-        return static_cast<int>(std::upper_bound(ends_.begin(), ends_.end(), static_cast<size_t>(off)) - ends_.begin()) + 1;
-    }
-
-private:
-    std::vector<size_t> ends_;
-};
-
-// A whole number or decimal as the text of an element or attribute; nullopt otherwise.
-std::optional<double> number(const char* text) {
-    while (*text == ' ' || *text == '\n' || *text == '\t' || *text == '\r') ++text;
-    if (*text == '\0') return std::nullopt;
-    char* end = nullptr;
-    const double v = std::strtod(text, &end);
-    while (*end == ' ' || *end == '\n' || *end == '\t' || *end == '\r') ++end;
-    if (end == text || *end != '\0' || !std::isfinite(v)) return std::nullopt;
-    return v;
-}
+using Lines = XmlLines;
+constexpr auto number = parse_number;
 
 struct Reader {
     const Lines& lines;
@@ -123,27 +95,22 @@ bool is_commonroad(const std::string& xml) {
 }
 
 LoadResult load_commonroad(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
+    std::string text;
+    if (!read_file(path, text)) {
         LoadResult r;
         r.errors.push_back("cannot read map file '" + path + "'");
         return r;
     }
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return parse_commonroad(ss.str());
+    return parse_commonroad(text);
 }
 
 LoadResult load_map(const std::string& path, std::optional<GeoOrigin> origin) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
+    std::string text;
+    if (!read_file(path, text)) {
         LoadResult r;
         r.errors.push_back("cannot read map file '" + path + "'");
         return r;
     }
-    std::stringstream ss;
-    ss << in.rdbuf();
-    const std::string text = ss.str();
     return is_commonroad(text) ? parse_commonroad(text) : parse_lanelet2(text, origin);
 }
 
