@@ -5,7 +5,8 @@
 #   runtime/road and runtime/planner never include runtime/sim, runtime/bt or runtime/io;
 #   runtime/bt never includes runtime/sim or runtime/io; runtime/sim never includes runtime/io,
 #   runtime/cosim or runtime/campaign; runtime/io never includes runtime/cosim or runtime/campaign;
-#   runtime/campaign and runtime/cosim never include each other;
+#   runtime/campaign and runtime/cosim never include each other; runtime/realism includes only
+#   runtime/road (and the libraries), never the simulation;
 #   cli/ is the only place that includes both compiler/ and runtime/io.
 # Usage: layers.sh REPO_ROOT
 set -u
@@ -31,6 +32,8 @@ check runtime/io 'runtime/(cosim|campaign)/' "runtime/io includes runtime/cosim 
 check runtime/campaign 'runtime/cosim/' "runtime/campaign includes runtime/cosim (they are siblings)"
 check runtime/cosim 'runtime/campaign/' "runtime/cosim includes runtime/campaign (they are siblings)"
 check compiler 'runtime/(sim|io|bt|planner)/' "compiler/ includes the simulation"
+check runtime/realism 'runtime/(sim|io|bt|planner|cosim|campaign)/' "runtime/realism includes the simulation (it reads recordings and compares paths)"
+check runtime/road 'runtime/realism/' "runtime/road includes runtime/realism (a layer above it)"
 # No file in runtime/sim above 400 lines: the loop stays in stages.
 for f in "$root"/runtime/sim/*.cpp "$root"/runtime/sim/*.h; do
     n=$(wc -l < "$f")
