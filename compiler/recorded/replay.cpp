@@ -127,7 +127,6 @@ ReplaySource replay_source(const realism::Recording& rec, const road::RoadNetwor
         for (const auto& ph : l.phases) total += ph.second;
         o << " offset " << num(std::fmod(l.offset + t0, total)) << " s }\n";
     }
-    std::vector<std::string> left_out;
     if (sdv != nullptr) {
         out.sdv_name = agent_name(*sdv);
         const auto route = realism::recorded_route(net, *sdv, spec.goal_beyond);
@@ -172,31 +171,25 @@ ReplaySource replay_source(const realism::Recording& rec, const road::RoadNetwor
     }
     for (const auto& tr : rec.tracks) {
         if (&tr == sdv) continue;
-        if (tr.end() < t0) continue;  // gone before the scenario starts
-        if (tr.start() > t0 + 1e-9) {
-            left_out.push_back(agent_name(tr) + " (enters at " + num(tr.start() - t0) + " s)");
-            continue;
-        }
-        o << "    " << (tr.pedestrian() ? "pedestrian " : "vehicle ") << agent_name(tr) << ": trajectory {\n";
-        o << "        length " << num(tr.length) << " m\n        width " << num(tr.width) << " m\n";
-        o << "        trajectory {\n";
+        if (tr.end() < t0 || tr.start() > t1) continue;  // not there while the scenario runs
         // The recorded states from the scenario's start; after its last one, the agent goes on
         // at its last velocity (a recording ends where the agent leaves the recorded area).
+        // An agent recorded from a later time enters the run then (a trajectory's first waypoint).
         std::vector<realism::State> pts;
-        pts.push_back(at_time(tr, t0));
+        if (tr.start() <= t0 + 1e-9) pts.push_back(at_time(tr, t0));
         for (const auto& s : tr.states)
             if (s.t > t0 + 1e-9 && s.t <= t1 + 1e-9) pts.push_back(s);
         if (tr.end() < t1 - 1e-9) pts.push_back(at_time(tr, t1));
+        if (pts.size() < 2) continue;  // within the span for an instant only
+        o << "    " << (tr.pedestrian() ? "pedestrian " : "vehicle ") << agent_name(tr) << ": trajectory {\n";
+        o << "        length " << num(tr.length) << " m\n        width " << num(tr.width) << " m\n";
+        o << "        trajectory {\n";
         for (const auto& s : pts)
             o << "            " << num(s.t - t0) << " s: at (" << num(s.x) << " m, " << num(s.y) << " m) heading "
               << heading_deg(s.heading) << " deg\n";
         o << "        }\n    }\n";
     }
     if (sdv != nullptr) o << "    expect not collision(" << out.sdv_name << ")\n";
-    if (!left_out.empty()) {
-        o << "    # Not replayed: sdv places every agent at the scenario's start, and these enter later:\n";
-        for (const auto& n : left_out) o << "    #   " << n << "\n";
-    }
     o << "}\n";
     out.text = o.str();
     return out;

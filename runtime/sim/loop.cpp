@@ -87,6 +87,10 @@ void Simulation::advance_to(int tick) {
     // 1. Advance every agent to time t (each writes only its own agent: in parallel).
     st.pool->run(w.agents.size(), [&](size_t i) {  // a few µs each: in parallel from 256 agents
         Agent& a = w.agents[i];
+        if (!a.active && a.enters_at >= 0 && t >= a.enters_at - 1e-9) {
+            a.active = true;  // a trajectory agent's first waypoint time: it enters the run
+            a.enters_at = -1;
+        }
         if (!a.active) return;
         if (a.crashed) {
             // A collision ends a vehicle's motion: it stands where it hit (SPEC §3.10).

@@ -265,7 +265,14 @@ std::string World::place_walking(Agent& a) {
         a.yaw = yaw;
     }
     a.model->advance(*this, a, 0, 0);  // its lane and lane coordinates
+    enter_later(a);
     return "";
+}
+
+void World::enter_later(Agent& a) const {
+    if (a.v->kind != ir::VehicleKind::trajectory || a.v->trajectory.empty() || a.v->trajectory.front().time <= 0) return;
+    a.enters_at = a.v->trajectory.front().time;
+    a.active = false;
 }
 
 std::string World::place_agent(Agent& a) {
@@ -324,9 +331,10 @@ std::string World::place_agent(Agent& a) {
     if (a.v->kind == ir::VehicleKind::trajectory && a.v->trajectory.size() >= 2) {
         // Under way from its first waypoint: at t = 0 it has its first segment's velocity, as
         // at every later tick (drivers must not see it standing at its start).
-        a.model->advance(*this, a, 0, 1);
+        a.model->advance(*this, a, std::max(0.0, a.v->trajectory.front().time), 1);
         a.accel = 0;
     }
+    enter_later(a);
     if (a.v->kind == ir::VehicleKind::sdv) {
         a.driver = std::make_unique<Driver>();
         Driver& d = *a.driver;

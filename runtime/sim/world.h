@@ -160,6 +160,9 @@ struct Agent {
     // Left the road network past the end of a lane without successor: no longer simulated.
     bool past_road_end = false;
     bool active = true;
+    // A trajectory agent whose first waypoint is later than 0 s enters the run then (inactive
+    // until then, as a recorded road user who enters the recorded area); < 0: none.
+    double enters_at = -1;
     bool off_lanes = false;  // the centre is off every lane (an off_road episode)
     bool crashed = false;    // in a collision: stands where it hit, no longer driven
     double stopped_since = -1;
@@ -224,6 +227,7 @@ private:
     std::string make_road(road::RoadNetwork& out) const;
     std::string place_agent(Agent& a);
     std::string place_walking(Agent& a);
+    void enter_later(Agent& a) const;  // a trajectory that starts after 0 s: inactive until then
     // A position of the IR as a point (lane positions with their offset); an error, or "".
     std::string point(const ir::Position& pos, road::Vec2& out) const;
 };

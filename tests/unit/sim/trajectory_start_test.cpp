@@ -76,3 +76,48 @@ TEST_CASE("a trajectory vehicle has its first segment's speed at t = 0, and a dr
         }
     }
 }
+
+TEST_CASE("a trajectory whose first waypoint is later than 0 s enters the run then, under way") {
+    for (double entry : {0.5, 2.0, 3.3}) {
+        CAPTURE(entry);
+        const std::string text = R"(road r {
+    lanes 1 forward
+    straight 400 m
+}
+scenario s {
+    road r
+    timeout 6 s
+    vehicle parked: static { start lane 1 at 52 m }
+    vehicle late: trajectory { trajectory { )" + std::to_string(entry) + " s: lane 1 at 50 m  " + std::to_string(entry + 10) +
+                                 R"( s: lane 1 at 150 m } }
+}
+)";
+        auto p = test::compile_text(text);
+        REQUIRE(p);
+        // Where the late vehicle is, tick by tick, while it is in the run.
+        class Watch final : public sim::RunObserver {
+        public:
+            void tick(const sim::World& w, int, double t) override {
+                const auto& a = w.agents[1];
+                if (a.active) seen.push_back({t, a.x, a.speed});
+            }
+            struct Seen {
+                double t, x, speed;
+            };
+            std::vector<Seen> seen;
+        } watch;
+        const auto r = sim::simulate(*p, 0, {}, &watch);
+        REQUIRE(r.error.empty());
+        REQUIRE(!watch.seen.empty());
+        CHECK(watch.seen.front().t >= entry - 1e-9);
+        CHECK(watch.seen.front().t <= entry + 1.0 / 30 + 1e-9);
+        CHECK(watch.seen.front().speed == doctest::Approx(10).epsilon(0.01));
+        // Its first waypoint overlaps the parked car (2 m apart): before it entered it was
+        // nowhere, so the collision happens when it enters, not at 0 s.
+        double first_collision = -1;
+        for (const auto& e : r.events)
+            if (e.kind == "collision" && first_collision < 0) first_collision = e.time;
+        CHECK(first_collision >= entry - 1e-9);
+        CHECK(first_collision <= entry + 1.0 / 30 + 1e-9);
+    }
+}
