@@ -411,6 +411,11 @@ void Checker::check_overlaps(const ast::ScenarioDecl& s, const ir::Scenario& sc)
             if (a.start.xy || b.start.xy || a.start.lane.empty() || a.start.lane != b.start.lane) {
                 continue;
             }
+            // A trajectory whose first waypoint is after 0 s is not there at the start.
+            auto enters_later = [](const ir::Vehicle& v) {
+                return v.kind == ir::VehicleKind::trajectory && !v.trajectory.empty() && v.trajectory.front().time > 0;
+            };
+            if (enters_later(a) || enters_later(b)) continue;
             const double gap = std::fabs(a.start.s - b.start.s) - 0.5 * (a.length + b.length);
             const double lat = std::fabs(a.start.offset - b.start.offset) - 0.5 * (a.width + b.width);
             if (gap < 0 && lat < 0) {
