@@ -79,6 +79,14 @@ python3 - "$tmp/truth/realism.csv" <<'PY' && pass "replays with the true paramet
 import csv, sys
 assert all(float(r["max_distance_m"]) < 0.01 for r in csv.DictReader(open(sys.argv[1])))
 PY
+# A track that starts later (INTERACTION tracks do) enters the replay at its first recorded time.
+awk -F, 'NR == 1 || $1 != "other" || $3 >= 2000' "$tmp/tracks.csv" > "$tmp/late.csv"
+"$sdv" convert "$tmp/late.csv" --map "$map" --sdv solo -o "$tmp/late.sdv" > /dev/null 2>&1 || bad "convert with a late track"
+awk '/vother: trajectory/ {f = 1} f && / s: at / {print $1; exit}' "$tmp/late.sdv" | grep -qx "2" \
+    && pass "a late track is replayed from its first recorded time (2 s)" || { bad "late track"; grep -A4 vother "$tmp/late.sdv"; }
+"$sdv" run "$tmp/late.sdv" -o "$tmp/late" > /dev/null 2>&1
+first=$(awk -F, '$3 == "vother" {print $1; exit}' "$tmp/late/trajectories.csv")
+[ "$first" = "2.0000" ] && pass "it enters the run at 2 s" || bad "it enters at '$first'"
 "$sdv" lint "$tmp/cal1/calibrated.sdv" > /dev/null 2>&1 && pass "calibrated.sdv is a tree that compiles" || bad "calibrated.sdv"
 "$sdv" calibrate "$tmp/tracks.csv" --map "$map" --sdv follower,solo,other --params speed --split 0.67 --budget 10 -o "$tmp/cal3" > "$tmp/cal3.log" 2>&1
 grep -q "held out (1 vehicles)" "$tmp/cal3.log" && pass "a split reports held-out STED" || { bad "held-out"; cat "$tmp/cal3.log"; }
