@@ -103,8 +103,10 @@ sdv_status fill_array(T* buf, size_t cap, size_t* n, const std::vector<Src>& src
     if (n == nullptr) return SDV_ERR_ARG;
     *n = src.size();
     if (buf == nullptr || cap < src.size()) return src.empty() ? SDV_OK : SDV_ERR_BUFFER;
+    // An output array's elements are the library's to write: what the caller's memory held
+    // (uninitialised, in C) is never read; each element's struct_size tells the caller the
+    // layout written.
     for (size_t i = 0; i < src.size(); ++i) {
-        if (buf[i].struct_size != 0 && buf[i].struct_size < sizeof(T)) return SDV_ERR_ARG;
         T out{};
         out.struct_size = sizeof(T);
         fill(out, src[i]);

@@ -198,6 +198,33 @@ TEST_CASE("claims, states and steps refuse misuse with a message") {
     sdv_destroy(h);
 }
 
+TEST_CASE("output arrays: whatever the caller's memory held (uninitialised in C), they are filled") {
+    // examples/cosim/c_client.c declared its array without initialising it; the library read
+    // each element's struct_size from it and, with stack garbage below sizeof, refused the call
+    // (under ASan, whose fresh stack differs from a release build's).
+    const std::string path = write_scenario(temp_dir("garbage"));
+    sdv_sim* h = nullptr;
+    const sdv_config c = config(path);
+    REQUIRE(sdv_create(&c, &h) == SDV_OK);
+    for (const int fill : {0x00, 0x01, 0xAB, 0xFF, -1}) {
+        CAPTURE(fill);
+        std::vector<sdv_actor_state> states(8);
+        std::memset(states.data(), fill < 0 ? 0 : fill, states.size() * sizeof(sdv_actor_state));
+        if (fill < 0)
+            for (auto& st : states) st.struct_size = 4;  // small and not 0, as garbage may be
+        size_t n = 0;
+        REQUIRE(sdv_get_actor_states(h, states.data(), states.size(), &n) == SDV_OK);
+        REQUIRE(n == 3);
+        for (size_t i = 0; i < n; ++i) CHECK(states[i].struct_size == sizeof(sdv_actor_state));
+        std::vector<sdv_actor_info> info(8);
+        std::memset(info.data(), fill < 0 ? 0 : fill, info.size() * sizeof(sdv_actor_info));
+        if (fill < 0)
+            for (auto& in : info) in.struct_size = 4;
+        CHECK(sdv_get_actor_info(h, info.data(), info.size(), &n) == SDV_OK);
+    }
+    sdv_destroy(h);
+}
+
 TEST_CASE("a step is Jacobi: where the ego goes at k+1 does not move an NPC at k+1") {
     const std::string path = write_scenario(temp_dir("jacobi"));
     sdv_sim *a = nullptr, *b = nullptr;
