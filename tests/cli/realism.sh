@@ -5,9 +5,10 @@
 # recording; `sdv convert` of a recording compiles; `sdv calibrate` recovers the speed of a
 # synthetic recording made by sdv itself with known parameters, reproducibly; bad input gives
 # located errors.
-# Usage: realism.sh SDV SOURCE_DIR
+# Usage: realism.sh SDV SOURCE_DIR [quick]
+# `quick` (the sanitizer build): the replays of the three smaller recordings only.
 set -u
-sdv=$1 src=$2
+sdv=$1 src=$2 mode=${3:-full}
 rec=$src/../shared/data/recorded/commonroad
 data=$src/tests/cli/data/realism
 tmp=$(mktemp -d)
@@ -22,6 +23,7 @@ same() {  # same FILE_A FILE_B WHAT
 # ---- replay every vehicle of every recording
 for f in "$rec"/*.xml; do
     name=$(basename "$f" .xml)
+    case $mode:$name in quick:USA_Lanker-1_1_T-1 | quick:USA_US101-4_1_T-1) continue ;; esac
     "$sdv" replay "$f" -o "$tmp/$name.1" --jobs 1 > "$tmp/$name.log" 2>&1 || { bad "$name: replay exit $?"; cat "$tmp/$name.log"; continue; }
     "$sdv" replay "$f" -o "$tmp/$name.2" --jobs 2 > /dev/null 2>&1
     same "$tmp/$name.1/realism.csv" "$tmp/$name.2/realism.csv" "$name: realism.csv identical for --jobs 1 and 2"
