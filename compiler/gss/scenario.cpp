@@ -3,6 +3,7 @@
 #include "compiler/gss/scenario.h"
 
 #include "compiler/gss/lower.h"
+#include "compiler/syntax/format.h"
 #include "runtime/road/lanelet2_reader.h"
 #include "runtime/road/routing.h"
 
@@ -682,14 +683,8 @@ std::string relative_to(const fs::path& p, const std::string& dir) {
     return rel.empty() ? abs.string() : rel.string();
 }
 
-std::string quoted(const std::string& s) {
-    std::string out = "\"";
-    for (char c : s) {
-        if (c == '"' || c == '\\') out += '\\';
-        out += c;
-    }
-    return out + "\"";
-}
+// A name or path as a .sdv string literal.
+std::string quoted(const std::string& s) { return syntax::string_literal(s); }
 
 }  // namespace
 

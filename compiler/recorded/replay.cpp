@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "compiler/syntax/format.h"
 #include "runtime/realism/route.h"
 #include "runtime/road/commonroad_reader.h"
 
@@ -27,14 +28,8 @@ std::string num(double v, int digits = 3) {
     return s;
 }
 
-std::string quoted(const std::string& s) {
-    std::string out = "\"";
-    for (char c : s) {
-        if (c == '"' || c == '\\') out += '\\';
-        out += c;
-    }
-    return out + "\"";
-}
+// A name or path as a .sdv string literal.
+std::string quoted(const std::string& s) { return syntax::string_literal(s); }
 
 // The state at time t: interpolated between the recorded ones, extrapolated at the last
 // recorded velocity after the end.

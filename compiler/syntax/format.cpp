@@ -269,4 +269,13 @@ std::optional<std::string> format(diag::FileId file, const diag::SourceManager& 
     return out;
 }
 
+std::string string_literal(const std::string& s) {
+    std::string out = "\"";
+    for (char c : s) {
+        if (c == '"' || c == '\\') out += '\\';
+        out += c;
+    }
+    return out + "\"";
+}
+
 }  // namespace sdv::compiler::syntax

@@ -16,4 +16,8 @@ namespace sdv::compiler::syntax {
 // The formatted text, or nullopt when the file does not parse (diagnostics in `diags`).
 std::optional<std::string> format(diag::FileId file, const diag::SourceManager& sm, diag::DiagnosticEngine& diags);
 
+// `s` as a .sdv string literal: in double quotes, with '"' and '\\' escaped (what the front ends
+// that write .sdv text, GeoScenario and recorded traffic, put around names and paths).
+std::string string_literal(const std::string& s);
+
 }  // namespace sdv::compiler::syntax

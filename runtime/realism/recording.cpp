@@ -38,6 +38,13 @@ std::optional<double> exact(const pugi::xml_node& state, const char* field, std:
     return v;
 }
 
+Recording unreadable(const std::string& path) {
+    Recording r;
+    r.path = path;
+    r.errors.push_back(path + ": cannot read the file");
+    return r;
+}
+
 }  // namespace
 
 double Recording::duration() const {
@@ -57,12 +64,7 @@ const Track* Recording::find(const std::string& id) const {
 
 Recording read_commonroad(const std::string& path) {
     std::string text;
-    if (!read_file(path, text)) {
-        Recording r;
-        r.path = path;
-        r.errors.push_back(path + ": cannot read the file");
-        return r;
-    }
+    if (!read_file(path, text)) return unreadable(path);
     return parse_commonroad(text, path);
 }
 
@@ -223,12 +225,7 @@ Recording parse_commonroad(const std::string& xml, const std::string& path) {
 
 Recording read_interaction(const std::string& csv_path, const std::string& map_path) {
     std::string text;
-    if (!read_file(csv_path, text)) {
-        Recording r;
-        r.path = csv_path;
-        r.errors.push_back(csv_path + ": cannot read the file");
-        return r;
-    }
+    if (!read_file(csv_path, text)) return unreadable(csv_path);
     Recording r = parse_interaction(text, csv_path);
     r.map_path = map_path;
     if (map_path.empty()) r.errors.push_back(csv_path + ": an INTERACTION track file needs its Lanelet2 map (--map)");
@@ -353,12 +350,7 @@ Recording parse_interaction(const std::string& csv, const std::string& path) {
 
 Recording read_recording(const std::string& path, const std::string& map_path) {
     std::string text;
-    if (!read_file(path, text)) {
-        Recording r;
-        r.path = path;
-        r.errors.push_back(path + ": cannot read the file");
-        return r;
-    }
+    if (!read_file(path, text)) return unreadable(path);
     if (road::is_commonroad(text)) {
         Recording r = parse_commonroad(text, path);
         if (!map_path.empty()) r.map_path = map_path;
