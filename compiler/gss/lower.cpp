@@ -961,7 +961,7 @@ std::optional<std::string> BtreeLibrary::call_with_config(const std::string& nam
     const size_t before = diags_.error_count();
     auto parsed = parse_btree(f, sm_, diags_);
     if (!parsed || parsed->trees.empty() || parsed->trees[0].root.children.empty()) return std::nullopt;
-    std::string call = lower_subtree(parsed->trees[0].root.children[0], agent);
+    std::string call = lower_subtree(parsed->trees[0].root.children[0], agent, nullptr, true);
     if (diags_.error_count() > before || call.rfind("subtree ", 0) != 0) return std::nullopt;
     call = call.substr(8);
     while (!call.empty() && call.back() == '\n') call.pop_back();
@@ -1046,11 +1046,12 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
             for (const BtNode& c : n.children) s += lower_node(c, depth + 1, t);
             return s + ind + "}\n";
         }
-        case BtNode::Kind::subtree: return ind + lower_subtree(n, t.lowered.agent);
+        case BtNode::Kind::subtree: return ind + lower_subtree(n, t.lowered.agent, &t, false);
         case BtNode::Kind::condition:
         case BtNode::Kind::maneuver: break;
     }
-    // A unique label per tree; repeated names get a suffix (overrides reach them all).
+    // A unique label per tree; repeated names get a suffix (an override reaches the first, as
+    // the reference's reconfigure_nodes does).
     std::string label = tree_name(n.label);
     for (int k = 2; t.labels.count(label); ++k) label = tree_name(n.label) + "_" + std::to_string(k);
     const BtValue& call = n.call;
@@ -1084,6 +1085,7 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
             info.fields.insert((*args)[i].name);
         }
         t.lowered.nodes[n.label].push_back(std::move(info));
+        t.lowered.order.push_back({n.label, t.lowered.nodes[n.label].size() - 1, "", nullptr, {}});
         s += ")\n";
         if (cm->then != nullptr) s += inner + cm->then + "\n" + ind + "}\n";
         return s;
@@ -1112,6 +1114,7 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
     if (out.drop) return ind + "# " + n.label + ": " + call.text + "(...) is implied by the maneuver that follows\n";
     t.labels.insert(label);
     t.lowered.nodes[n.label].push_back({label, "", {}});
+    t.lowered.order.push_back({n.label, t.lowered.nodes[n.label].size() - 1, "", nullptr, {}});
     std::string s;
     if (!out.comment.empty()) s += ind + "# " + out.comment + "\n";
     if (!out.any_of.empty()) {
@@ -1124,7 +1127,38 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
     return s + ")\n";
 }
 
-std::string BtreeLibrary::lower_subtree(const BtNode& n, BtAgent agent) {
+std::optional<BtreeLibrary::Found> BtreeLibrary::find_node(const Lowered& l, const std::string& name, bool deep) {
+    for (const Item& item : l.order) {
+        if (item.sub == nullptr) {
+            if (item.name == name) return Found{"", &l.nodes.at(name)[item.info], {}};
+            continue;
+        }
+        if (!deep) continue;
+        auto f = find_node(*item.sub, name, deep);
+        if (!f) continue;
+        // Found in the referenced tree itself: the fields this reference overrides are reset too.
+        if (f->path.empty()) {
+            if (auto it = item.sub_fields.find(f->info->sdv_label); it != item.sub_fields.end()) {
+                f->fields.insert(it->second.begin(), it->second.end());
+            }
+        }
+        f->path = item.sub_label + "." + f->path;
+        return f;
+    }
+    return std::nullopt;
+}
+
+void BtreeLibrary::node_names(const Lowered& l, bool deep, std::vector<std::string>& out) {
+    for (const Item& item : l.order) {
+        if (item.sub == nullptr) {
+            if (!l.nodes.at(item.name)[item.info].mconfig.empty()) out.push_back(item.name);
+        } else if (deep) {
+            node_names(*item.sub, deep, out);
+        }
+    }
+}
+
+std::string BtreeLibrary::lower_subtree(const BtNode& n, BtAgent agent, TreeState* t, bool deep) {
     const Lowered* sub = nullptr;
     if (auto path = find(n.label)) {
         sub = lower_file(*path, n.label_range, agent);
@@ -1132,25 +1166,29 @@ std::string BtreeLibrary::lower_subtree(const BtNode& n, BtAgent agent) {
         add_named(n.label, n.label_range, agent);  // reports E0905
     }
     if (sub == nullptr) return "";
-    // Overrides: NODE=MConfigClass(...) replaces that node's whole configuration; fields the
-    // tree set and the override leaves out fall back to the catalog defaults.
+    // Overrides: NODE=MConfigClass(...) replaces the configuration of the first node of that
+    // name (BTreeInterpreter.reconfigure_nodes): fields the trees set and the override leaves
+    // out fall back to the catalog defaults. A subtree reference in a .btree reaches the
+    // tree's own nodes (the reference reconfigures a subtree before linking its subtrees in);
+    // a vehicle's btconfig (`deep`) reaches the nodes of the whole tree.
     std::vector<Arg> out;
+    std::map<std::string, std::set<std::string>> fields_of;  // label in `sub` → fields overridden
     for (const BtItem& it : n.call.items) {
         if (!it.key) {
             diags_.error("E0906", it.range, "unexpected positional value in a subtree reference")
                 .notes.push_back({{}, "overrides are written NODE=MConfigClass(field=value, ...)"});
             continue;
         }
-        auto node = sub->nodes.find(*it.key);
-        if (node == sub->nodes.end() || node->second.front().mconfig.empty()) {
+        const auto found = find_node(*sub, *it.key, deep);
+        if (!found || found->info->mconfig.empty()) {
             std::vector<std::string> names;
-            for (const auto& [k, v] : sub->nodes) {
-                if (!v.front().mconfig.empty()) names.push_back(k);
-            }
+            node_names(*sub, deep, names);
             auto& d = diags_.error("E0908", it.key_range, "the tree '" + n.label + "' has no maneuver node '" + *it.key + "'");
             if (auto m = diag::closest_match(*it.key, names)) d.notes.push_back({{}, "did you mean '" + *m + "'?"});
+            if (found) d.notes.push_back({{}, "its first node named '" + *it.key + "' is a condition"});
             continue;
         }
+        const NodeInfo& info = *found->info;
         if (it.value.kind != BtValue::Kind::call) {
             diags_.error("E0906", it.value.range, "invalid value for '" + *it.key + "'")
                 .notes.push_back({{}, "expected a configuration, e.g. MVelKeepConfig(vel=MP(12,10,6))"});
@@ -1162,30 +1200,42 @@ std::string BtreeLibrary::lower_subtree(const BtNode& n, BtAgent agent) {
             if (auto m = diag::closest_match(it.value.text, class_names(sub->agent))) d.notes.push_back({{}, "did you mean '" + *m + "'?"});
             continue;
         }
-        if (cm->mconfig != node->second.front().mconfig) {
+        if (cm->mconfig != info.mconfig) {
             diags_.error("E0909", it.value.name_range,
-                         "the override of '" + *it.key + "' changes its class from " + node->second.front().mconfig + " to " +
-                             cm->mconfig)
+                         "the override of '" + *it.key + "' changes its class from " + info.mconfig + " to " + cm->mconfig)
                 .notes.push_back({{}, "sdv overrides change a node's parameters, not its maneuver"});
             continue;
         }
         auto args = lower_config(it.value, *cm, diags_);
         if (!args) continue;
         const catalog::ManeuverDef* m = catalog::find_maneuver(cm->maneuver);
-        for (const NodeInfo& info : node->second) {
-            std::set<std::string> given;
-            for (const Arg& a : *args) {
-                out.push_back({info.sdv_label + "." + a.name, a.text});
-                given.insert(a.name);
-            }
-            for (const std::string& f : info.fields) {
-                if (given.count(f)) continue;
-                const catalog::ParamDef* p = m->find_param(f);
-                if (p != nullptr && p->def) out.push_back({info.sdv_label + "." + f, catalog::format_default(*p)});
-            }
+        const std::string path = found->path + info.sdv_label + ".";
+        std::set<std::string> given;
+        for (const Arg& a : *args) {
+            out.push_back({path + a.name, a.text});
+            given.insert(a.name);
+        }
+        std::set<std::string> reset = info.fields;
+        reset.insert(found->fields.begin(), found->fields.end());
+        for (const std::string& f : reset) {
+            if (given.count(f)) continue;
+            const catalog::ParamDef* p = m->find_param(f);
+            if (p != nullptr && p->def) out.push_back({path + f, catalog::format_default(*p)});
+        }
+        if (found->path.empty()) {
+            for (const Arg& a : *args) fields_of[info.sdv_label].insert(a.name);
+            fields_of[info.sdv_label].insert(reset.begin(), reset.end());
         }
     }
-    std::string s = "subtree " + sub->name + "(";
+    std::string label;
+    if (t != nullptr) {
+        // A label, so that a vehicle's btconfig can reach the nodes inside (`label.node.field`).
+        label = sub->name;
+        for (int k = 2; t->labels.count(label); ++k) label = sub->name + "_" + std::to_string(k);
+        t->labels.insert(label);
+        t->lowered.order.push_back({"", 0, label, sub, std::move(fields_of)});
+    }
+    std::string s = (label.empty() ? "" : label + ": ") + "subtree " + sub->name + "(";
     for (size_t i = 0; i < out.size(); ++i) s += (i ? ", " : "") + out[i].name + " = " + out[i].text;
     return s + ")\n";
 }

@@ -70,18 +70,40 @@ private:
         std::string mconfig;                 // class of a maneuver node
         std::set<std::string> fields;        // catalog parameters its configuration sets
     };
+    struct Lowered;
+    // A leaf or a subtree reference of a lowered tree, in the order of the .btree text (the
+    // order of the reference's leaves once its subtrees are linked in).
+    struct Item {
+        std::string name;                  // a leaf: its .btree name
+        size_t info = 0;                   //   its index in Lowered::nodes[name]
+        std::string sub_label;             // a subtree reference: its .sdv label
+        const Lowered* sub = nullptr;      //   the tree it refers to
+        std::map<std::string, std::set<std::string>> sub_fields;  // label in `sub` → fields it overrides
+    };
     struct Lowered {
         std::string name;
         BtAgent agent = BtAgent::vehicle;
         // Original node name → the .sdv nodes carrying it (names may repeat in a .btree).
         std::map<std::string, std::vector<NodeInfo>> nodes;
+        std::vector<Item> order;
     };
     struct TreeState;
+    // A node found by its .btree name: its .sdv override path (`sub.label.`) and the fields
+    // the trees above it set, which a reconfiguration resets.
+    struct Found {
+        std::string path;
+        const NodeInfo* info = nullptr;
+        std::set<std::string> fields;
+    };
 
     std::optional<std::string> find(const std::string& name) const;
     const Lowered* lower_file(const std::string& path, diag::SourceRange where, BtAgent agent);
     std::string lower_node(const BtNode& n, int depth, TreeState& t);
-    std::string lower_subtree(const BtNode& n, BtAgent agent);
+    // A subtree reference: `subtree NAME(overrides)`, labelled when it is a node of `t`.
+    // `deep`: overrides reach the nodes of the tree's own subtrees too (a vehicle's btconfig).
+    std::string lower_subtree(const BtNode& n, BtAgent agent, TreeState* t, bool deep);
+    static std::optional<Found> find_node(const Lowered& l, const std::string& name, bool deep);
+    static void node_names(const Lowered& l, bool deep, std::vector<std::string>& out);
 
     std::vector<std::string> search_path_;
     diag::SourceManager& sm_;

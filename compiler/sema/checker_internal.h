@@ -110,8 +110,15 @@ struct Binding {
 struct Env {
     const TreeSym* tree = nullptr;
     std::map<std::string, Binding> params;
-    // label → overriding args (evaluated in `env`)
-    std::map<std::string, std::vector<std::pair<const ast::Arg*, const Env*>>> overrides;
+    // label → overriding args (evaluated in `env`). An arg's name is a path
+    // `a.b...label.field`; `depth` is the index of this tree's label in it (the labels before
+    // it are subtree references of the trees above).
+    struct Override {
+        const ast::Arg* arg = nullptr;
+        const Env* env = nullptr;
+        size_t depth = 0;
+    };
+    std::map<std::string, std::vector<Override>> overrides;
     std::vector<std::string> stack;  // tree names, for cycle detection while expanding
 };
 

@@ -43,11 +43,23 @@ Env Checker::bind(const TreeSym& t, const std::vector<ast::Arg>& args, const Env
                 it->second.value = &a.value;
                 it->second.env = caller_env;
             }
-        } else if (a.name.parts.size() == 2) {
-            env.overrides[a.name.parts[0].text].push_back({&a, caller_env});
+        } else {
+            env.overrides[a.name.parts[0].text].push_back({&a, caller_env, 0});
         }
     }
     return env;
+}
+
+// A labelled subtree reference's environment also takes the overrides that reach through it
+// (`label.node.field` above it); they come after the reference's own, so they win.
+static void pass_through(const Env& outer, const std::string& label, Env& sub) {
+    auto it = outer.overrides.find(label);
+    if (it == outer.overrides.end()) return;
+    for (const Env::Override& o : it->second) {
+        if (o.depth + 2 < o.arg->name.parts.size()) {
+            sub.overrides[o.arg->name.parts[o.depth + 1].text].push_back({o.arg, o.env, o.depth + 1});
+        }
+    }
 }
 
 int32_t Checker::expand_node(const ast::Node& n, const Env& env, ScenarioCtx& ctx,
@@ -60,6 +72,7 @@ int32_t Checker::expand_node(const ast::Node& n, const Env& env, ScenarioCtx& ct
         t = &trees_[it->second];
         if (!t->ok || t->decl->body.size() != 1) return -1;
         Env sub = bind(*t, n.args, &env, env);
+        if (n.label) pass_through(env, n.label->text, sub);
         return expand_node(*t->decl->body[0], sub, ctx, inst, path + "/" + t->qname);
     }
     const auto index = static_cast<int32_t>(inst.nodes.size());
@@ -119,7 +132,9 @@ void Checker::resolve_leaf(const ast::Node& n, const Env& env, ScenarioCtx& ctx,
     for (const auto& a : n.args) given[a.name.str()] = {&a.value, &env};
     if (!label.empty()) {
         if (auto it = env.overrides.find(label); it != env.overrides.end()) {
-            for (const auto& [arg, aenv] : it->second) given[arg->name.parts[1].text] = {&arg->value, aenv};
+            for (const Env::Override& o : it->second) {
+                if (o.depth + 2 == o.arg->name.parts.size()) given[o.arg->name.parts[o.depth + 1].text] = {&o.arg->value, o.env};
+            }
         }
     }
     for (const auto& p : *params) {

@@ -362,29 +362,49 @@ TreeSym* Checker::check_subtree_ref(const ast::QualName& name, const std::vector
                  nullptr);
             continue;
         }
-        // label.field override
-        const std::string label = a.name.parts[0].text;
-        auto lit = target->labels.find(label);
-        if (lit == target->labels.end()) {
-            std::vector<std::string> labels;
-            for (const auto& [l, n] : target->labels) labels.push_back(l);
-            auto* d = error("E0110", a.name.parts[0].range,
-                            "tree '" + target->qname + "' has no node named '" + label + "'");
-            add_suggestion(*d, label, labels);
-            if (labels.empty()) {
-                d->notes.push_back({{}, "name a node in the tree to override it: "
-                                        "'keep: maneuver keep_velocity(...)'"});
+        // label.field override; labels of subtree references lead into their trees
+        // (sub.label.field), as deep as the path goes.
+        const TreeSym* in = target;
+        const ast::Node* found = nullptr;
+        size_t depth = 0;
+        for (;; ++depth) {
+            const std::string& label = a.name.parts[depth].text;
+            auto lit = in->labels.find(label);
+            if (lit == in->labels.end()) {
+                std::vector<std::string> labels;
+                for (const auto& [l, n] : in->labels) labels.push_back(l);
+                auto* d = error("E0110", a.name.parts[depth].range,
+                                "tree '" + in->qname + "' has no node named '" + label + "'");
+                add_suggestion(*d, label, labels);
+                if (labels.empty()) {
+                    d->notes.push_back({{}, "name a node in the tree to override it: "
+                                            "'keep: maneuver keep_velocity(...)'"});
+                }
+                break;
             }
-            continue;
+            const ast::Node& node = *lit->second;
+            if (node.kind == ast::NodeKind::subtree && depth + 2 < a.name.parts.size()) {
+                auto sub = tree_index_.find(node.callee.str());
+                if (sub == tree_index_.end()) break;  // the unknown tree is reported at the reference
+                in = &trees_[sub->second];
+                continue;
+            }
+            if (depth + 2 != a.name.parts.size() ||
+                (node.kind != ast::NodeKind::maneuver && node.kind != ast::NodeKind::condition)) {
+                auto* d = error("E0110", a.name.range, "only a field of a maneuver or condition node can be "
+                                                       "overridden ('" + label + ".field = value')");
+                if (node.kind == ast::NodeKind::subtree) {
+                    d->notes.push_back({{}, "'" + label + "' is a subtree reference: name a node inside it, '" + label +
+                                                ".NODE.field = value'"});
+                }
+                break;
+            }
+            found = &node;
+            break;
         }
-        const ast::Node& node = *lit->second;
-        if (a.name.parts.size() != 2 ||
-            (node.kind != ast::NodeKind::maneuver && node.kind != ast::NodeKind::condition)) {
-            error("E0110", a.name.range, "only a field of a maneuver or condition node can be "
-                                         "overridden ('" + label + ".field = value')");
-            continue;
-        }
-        const std::string field = a.name.parts[1].text;
+        if (found == nullptr) continue;
+        const ast::Node& node = *found;
+        const std::string field = a.name.parts[depth + 1].text;
         std::string kind_word;
         const ParamDef* def = nullptr;
         if (node.kind == ast::NodeKind::maneuver) {
@@ -395,7 +415,7 @@ TreeSym* Checker::check_subtree_ref(const ast::QualName& name, const std::vector
             kind_word = "condition";
         }
         if (def == nullptr) {
-            auto* d = error("E0104", a.name.parts[1].range,
+            auto* d = error("E0104", a.name.parts[depth + 1].range,
                             "unknown parameter '" + field + "' of " + kind_word + " '" +
                                 node.callee.str() + "'");
             if (const auto* m = catalog::find_maneuver(node.callee.str())) {
@@ -405,7 +425,7 @@ TreeSym* Checker::check_subtree_ref(const ast::QualName& name, const std::vector
             }
             continue;
         }
-        check_arg(a.value, env, *def, "'" + field + "' of node '" + label + "'");
+        check_arg(a.value, env, *def, "'" + field + "' of node '" + a.name.parts[depth].text + "'");
     }
     for (const auto& [pname, p] : target->params) {
         if (!p->def && !seen.count(pname)) {
