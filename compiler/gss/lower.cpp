@@ -950,22 +950,112 @@ std::optional<std::string> BtreeLibrary::call_with_config(const std::string& nam
                                                           const std::string& who, diag::SourceRange where, BtAgent agent) {
     auto tree = add_named(name, where, agent);
     if (!tree) return std::nullopt;
-    if (config.find_first_not_of(" \t;") == std::string::npos) return *tree + "()";
-    // The reference splits btconfig at ';' into NODE=config items (BTreeInterpreter
-    // .reconfigure_nodes): read as the overrides of a subtree reference.
-    std::string items = config;
-    std::replace(items.begin(), items.end(), ';', ',');
-    while (!items.empty() && (items.back() == ',' || items.back() == ' ')) items.pop_back();
+    // The reference splits btconfig at ';' into ID=config items (BTreeInterpreter
+    // .reconfigure_nodes): `NODE=MConfigClass(...)` for a maneuver, `NODE=condition,args=(k=v,...)`
+    // for a condition. The maneuvers' are read as the overrides of a subtree reference, the
+    // conditions' as condition nodes.
+    std::string maneuvers, conditions;
+    size_t begin = 0;
+    while (begin <= config.size()) {
+        size_t end = config.find(';', begin);
+        if (end == std::string::npos) end = config.size();
+        std::string item = config.substr(begin, end - begin);
+        begin = end + 1;
+        item.erase(0, std::min(item.find_first_not_of(" \t"), item.size()));
+        while (!item.empty() && (item.back() == ' ' || item.back() == '\t')) item.pop_back();
+        if (item.empty()) continue;
+        const size_t eq = item.find('='), args = item.find(",args=(");
+        if (eq != std::string::npos && args != std::string::npos && eq < args && item.back() == ')') {
+            conditions += "            condition " + item.substr(0, eq) + "(" + item.substr(eq + 1, args - eq - 1) + "(" +
+                          item.substr(args + 7, item.size() - args - 8) + "))\n";
+        } else {
+            maneuvers += (maneuvers.empty() ? "" : ", ") + item;
+        }
+    }
     const std::string stem = fs::path(name).extension() == ".btree" ? fs::path(name).stem().string() : name;
-    const diag::FileId f = sm_.add_file(who, "behaviortree btconfig:\n    ->\n        subtree " + stem + "(" + items + ")\n");
+    const diag::FileId f = sm_.add_file(who, "behaviortree btconfig:\n    ->\n        subtree " + stem + "(" + maneuvers + ")\n" +
+                                                 (conditions.empty() ? "" : "        ->\n" + conditions));
     const size_t before = diags_.error_count();
     auto parsed = parse_btree(f, sm_, diags_);
     if (!parsed || parsed->trees.empty() || parsed->trees[0].root.children.empty()) return std::nullopt;
-    std::string call = lower_subtree(parsed->trees[0].root.children[0], agent, nullptr, true);
+    const BtNode& root = parsed->trees[0].root;
+    std::string call = lower_subtree(root.children[0], agent, nullptr, true);
     if (diags_.error_count() > before || call.rfind("subtree ", 0) != 0) return std::nullopt;
     call = call.substr(8);
     while (!call.empty() && call.back() == '\n') call.pop_back();
+    if (root.children.size() > 1) {
+        const Lowered* l = nullptr;
+        for (const auto& [path, lowered] : done_) {
+            if (lowered.name == *tree) l = &lowered;
+        }
+        std::vector<std::string> extra;
+        for (const BtNode& c : root.children[1].children) {
+            if (l != nullptr) condition_overrides(c, *l, extra);
+        }
+        if (diags_.error_count() > before) return std::nullopt;
+        call.pop_back();  // ')'
+        for (const std::string& e : extra) call += (call.back() == '(' ? "" : ", ") + e;
+        call += ")";
+    }
     return call;
+}
+
+void BtreeLibrary::condition_overrides(const BtNode& leaf, const Lowered& root, std::vector<std::string>& out) {
+    const auto found = find_node(root, leaf.label, true);
+    if (!found || !found->info->mconfig.empty()) {
+        auto& d = diags_.error("E0908", leaf.label_range, "the tree '" + root.name + "' has no condition node '" + leaf.label + "'");
+        if (found) d.notes.push_back({{}, "its first node named '" + leaf.label + "' is a maneuver: write " + leaf.label + "=MConfigClass(...)"});
+        return;
+    }
+    const NodeInfo& info = *found->info;
+    if (!info.condition) {
+        diags_.error("E0913", leaf.label_range, "the condition node '" + leaf.label + "' cannot be reconfigured by sdv")
+            .notes.push_back({{}, "it is lowered to several sdv conditions (docs/geoscenario.md)"});
+        return;
+    }
+    if (leaf.call.text != info.condition->text) {
+        diags_.error("E0909", leaf.call.name_range,
+                     "the reconfiguration of '" + leaf.label + "' changes its condition from " + info.condition->text + " to " +
+                         leaf.call.text)
+            .notes.push_back({{}, "sdv overrides change a node's parameters, not its condition"});
+        return;
+    }
+    // BCondition.reconfigure: the arguments given replace the node's of the same name; the
+    // others keep theirs.
+    BtValue merged = *info.condition;
+    for (const BtItem& it : leaf.call.items) {
+        if (!it.key) {
+            diags_.error("E0906", it.range, "unexpected positional value in a condition's reconfiguration")
+                .notes.push_back({{}, "write ID=condition,args=(name=value, ...)"});
+            return;
+        }
+        auto same = std::find_if(merged.items.begin(), merged.items.end(), [&](const BtItem& m) { return m.key == it.key; });
+        if (same != merged.items.end()) {
+            *same = it;
+        } else {
+            merged.items.push_back(it);
+        }
+    }
+    const CondMap* cmap = find_condition(merged.text, root.agent);
+    if (cmap == nullptr) return;  // the node itself lowered: cannot happen
+    Args args(merged, diags_, "condition " + merged.text);
+    Values val(diags_);
+    CondOut lowered;
+    cmap->lower(args, val, lowered);
+    args.finish(false, cmap->reads);
+    // The node as the tree has it (its diagnostics were reported when the tree was lowered).
+    diag::DiagnosticEngine quiet(sm_);
+    Args original_args(*info.condition, quiet, "condition " + merged.text);
+    Values original_val(quiet);
+    CondOut original;
+    cmap->lower(original_args, original_val, original);
+    if (!lowered.unsupported.empty() || !lowered.any_of.empty() || lowered.drop || lowered.name != original.name ||
+        lowered.once != original.once || lowered.negate != original.negate) {
+        diags_.error("E0913", leaf.label_range, "the condition node '" + leaf.label + "' cannot be reconfigured so by sdv")
+            .notes.push_back({{}, lowered.unsupported.empty() ? "its arguments lower it to another shape of sdv nodes" : lowered.unsupported});
+        return;
+    }
+    for (const Arg& a : lowered.args) out.push_back(found->path + info.sdv_label + "." + a.name + " = " + a.text);
 }
 
 std::optional<std::string> BtreeLibrary::add_file(const std::string& path, diag::SourceRange where, BtAgent agent) {
@@ -1075,7 +1165,7 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
         auto args = lower_config(call, *cm, diags_);
         if (!args) return "";
         t.labels.insert(label);
-        NodeInfo info{label, cm->mconfig, {}};
+        NodeInfo info{label, cm->mconfig, {}, std::nullopt};
         std::string s = cm->comment != nullptr ? ind + "# " + cm->comment + "\n" : "";
         const std::string inner = cm->then != nullptr ? ind + "    " : ind;
         if (cm->then != nullptr) s += ind + "sequence {\n";
@@ -1113,7 +1203,8 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
     }
     if (out.drop) return ind + "# " + n.label + ": " + call.text + "(...) is implied by the maneuver that follows\n";
     t.labels.insert(label);
-    t.lowered.nodes[n.label].push_back({label, "", {}});
+    t.lowered.nodes[n.label].push_back({label, "", {}, std::nullopt});
+    if (out.any_of.empty()) t.lowered.nodes[n.label].back().condition = call;
     t.lowered.order.push_back({n.label, t.lowered.nodes[n.label].size() - 1, "", nullptr, {}});
     std::string s;
     if (!out.comment.empty()) s += ind + "# " + out.comment + "\n";

@@ -69,6 +69,7 @@ private:
         std::string sdv_label;
         std::string mconfig;                 // class of a maneuver node
         std::set<std::string> fields;        // catalog parameters its configuration sets
+        std::optional<BtValue> condition;    // a condition node's call, when overrides can reach it
     };
     struct Lowered;
     // A leaf or a subtree reference of a lowered tree, in the order of the .btree text (the
@@ -102,6 +103,8 @@ private:
     // A subtree reference: `subtree NAME(overrides)`, labelled when it is a node of `t`.
     // `deep`: overrides reach the nodes of the tree's own subtrees too (a vehicle's btconfig).
     std::string lower_subtree(const BtNode& n, BtAgent agent, TreeState* t, bool deep);
+    // A btconfig's `ID=condition,args=(k=v,...)`: overrides of that condition node's arguments.
+    void condition_overrides(const BtNode& leaf, const Lowered& root, std::vector<std::string>& out);
     static std::optional<Found> find_node(const Lowered& l, const std::string& name, bool deep);
     static void node_names(const Lowered& l, bool deep, std::vector<std::string>& out);
 
