@@ -5,23 +5,30 @@
 
 namespace sdv::sim {
 
-std::array<Vec2, 4> Box::corners() const {
-    const Vec2 f{std::cos(yaw), std::sin(yaw)}, l{-f.y, f.x};
-    const Vec2 hf = 0.5 * length * f, hl = 0.5 * width * l;
-    return {centre + hf + hl, centre + hf - hl, centre - hf - hl, centre - hf + hl};
+namespace {
+
+// A box's heading and corners, each computed once (std::cos and std::sin were most of a gap).
+struct Outline {
+    Vec2 f;
+    std::array<Vec2, 4> c;
+};
+
+Outline outline(const Box& b) {
+    const Vec2 f{std::cos(b.yaw), std::sin(b.yaw)}, l{-f.y, f.x};
+    const Vec2 hf = 0.5 * b.length * f, hl = 0.5 * b.width * l;
+    return {f, {b.centre + hf + hl, b.centre + hf - hl, b.centre - hf - hl, b.centre - hf + hl}};
 }
 
-bool overlap(const Box& a, const Box& b) {
-    const auto ca = a.corners(), cb = b.corners();
-    for (const Box* box : {&a, &b}) {
-        const Vec2 f{std::cos(box->yaw), std::sin(box->yaw)};
+bool overlap(const Outline& a, const Outline& b) {
+    for (const Outline* box : {&a, &b}) {
+        const Vec2 f = box->f;
         for (const Vec2 axis : {f, Vec2{-f.y, f.x}}) {
             double amin = INFINITY, amax = -INFINITY, bmin = INFINITY, bmax = -INFINITY;
-            for (const Vec2& p : ca) {
+            for (const Vec2& p : a.c) {
                 amin = std::min(amin, road::dot(p, axis));
                 amax = std::max(amax, road::dot(p, axis));
             }
-            for (const Vec2& p : cb) {
+            for (const Vec2& p : b.c) {
                 bmin = std::min(bmin, road::dot(p, axis));
                 bmax = std::max(bmax, road::dot(p, axis));
             }
@@ -30,6 +37,12 @@ bool overlap(const Box& a, const Box& b) {
     }
     return true;
 }
+
+}  // namespace
+
+std::array<Vec2, 4> Box::corners() const { return outline(*this).c; }
+
+bool overlap(const Box& a, const Box& b) { return overlap(outline(a), outline(b)); }
 
 namespace {
 
@@ -45,8 +58,10 @@ double point_segment2(Vec2 p, Vec2 a, Vec2 b) {
 }  // namespace
 
 double gap(const Box& a, const Box& b) {
-    if (overlap(a, b)) return 0.0;
-    const auto ca = a.corners(), cb = b.corners();
+    const Outline oa = outline(a), ob = outline(b);
+    if (overlap(oa, ob)) return 0.0;
+    const auto& ca = oa.c;
+    const auto& cb = ob.c;
     double best = INFINITY;
     for (int i = 0; i < 4; ++i) {
         for (int j = 0; j < 4; ++j) {

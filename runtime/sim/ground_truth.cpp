@@ -305,7 +305,7 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
                 const double closing = behind.speed - ahead.speed;
                 if (closing > kClosing) s.ttc = s.gap / closing;
             }
-            row.push_back({jj, s, hit, late, late_t});
+            row.push_back({jj, s, hit, late, late_t, known ? int64_t{pi} : -1});
         }
     };
     if (pool != nullptr) {
@@ -316,7 +316,7 @@ void GroundTruth::measure_pairs(World& w, double t, int tick, Pool* pool) {
     // 2. In vehicle order: new pairs, collision events, the folds.
     for (size_t i = 0; i < n; ++i) {
         for (const auto& m : rows_[i]) {
-            const uint32_t pi = pair_index(static_cast<int>(i), m.j);
+            const uint32_t pi = m.pair >= 0 ? static_cast<uint32_t>(m.pair) : pair_index(static_cast<int>(i), m.j);
             const bool was_touching = touching_tick_[pi] == tick - 1;
             const auto j = static_cast<size_t>(m.j);
             if (m.hit && !was_touching) {

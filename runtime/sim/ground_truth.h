@@ -33,6 +33,7 @@ public:
         Sample s;
         bool hit = false;
         double late = INFINITY, late_t = 0;  // the clearance of an earlier tick, computed at this one, and when
+        int64_t pair = -1;  // its index in the pairs, when it was known at this tick
     };
 
     // Writes events and metrics into `out` (pairs, vehicles and windows sized here and at the

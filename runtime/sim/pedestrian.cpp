@@ -15,6 +15,17 @@ using road::Vec2;
 // Neighbours farther than this exert no noticeable force (the largest range of the model is
 // under 1 m; a car's box is measured from its centre, so add half a bus).
 constexpr double kNeighbourRadius = 12.0;  // m
+// A standing pedestrian (desired speed 0, or at its target) does not evade (social_force.h): only body forces
+// move it, and those of anything farther than this gap are negligible (the obstacle force, the
+// longer-ranged, is 1500 N · e^(−2/0.25) = 0.5 N there: under 0.01 m/s²).
+constexpr double kStandReach = 2.0;  // m
+// A standing pedestrian slower than this has come to rest.
+constexpr double kRestSpeed = 0.005;  // m/s
+// A pedestrian at rest keeps its feet against a push (per unit mass) weaker than this: a standing
+// neighbour's body 0.3 m away, and the pull of a target within the stand distance.
+constexpr double kHold = 0.5;  // m/s²
+// ... also when it is only creeping (pushed apart from a neighbour, slower than this).
+constexpr double kCreep = 0.05;  // m/s
 // Without a goal a pedestrian walks straight ahead: toward a point this far along its heading.
 constexpr double kAhead = 1000.0;  // m
 // Slower than this a pedestrian shuffles in place (jostled in a crowd): it keeps facing where it
@@ -38,7 +49,10 @@ public:
     const char* kind() const override { return "pedestrian"; }
     void advance(const World& w, Agent& a, double t, int tick) const override {
         (void)t;
+        const double was_x = a.x, was_y = a.y;
         if (tick > 0) move(w, a);
+        // At rest where it was: still where it was on the road.
+        if (tick > 0 && a.x == was_x && a.y == was_y && a.lane != kNoLane) return;
         // The lane it is by: searched over the whole network once it has moved kRelocate from
         // where it was last searched (a walker's lane changes slowly), else projected on it.
         road::RoadNetwork::Location at{a.lane, 0, 0};
@@ -67,12 +81,18 @@ private:
         thread_local std::vector<social_force::Obstacle> boxes;
         peds.clear();
         boxes.clear();
+        const Intent in = intent(w, a);
+        const double radius = 0.5 * std::max(a.v->length, a.v->width);
+        // Standing, it gathers only the bodies within reach: their centres are at most the
+        // largest half diagonal of any agent beyond their outline.
+        const bool standing = social_force::standing(params, {a.x, a.y}, in.target, in.speed);
+        const double reach = standing ? radius + kStandReach + w.widest_reach : kNeighbourRadius;
         if (!w.snapshot.empty()) {
-            w.grid.query(a.x, a.y, kNeighbourRadius, near);
+            w.grid.query(a.x, a.y, reach, near);
             for (const int j : near) {
                 if (j == a.index) continue;
                 const Snap& o = w.snapshot[static_cast<size_t>(j)];
-                if (!o.active || beyond(o.x - a.x, o.y - a.y, kNeighbourRadius)) continue;
+                if (!o.active || beyond(o.x - a.x, o.y - a.y, reach)) continue;
                 if (o.pedestrian) {
                     peds.push_back({{o.x, o.y}, {o.vx, o.vy}, 0.5 * std::max(o.length, o.width)});
                 } else {
@@ -80,11 +100,12 @@ private:
                 }
             }
         }
-        const Intent in = intent(w, a);
         const social_force::State s{{a.x, a.y}, {a.vx, a.vy}};
-        const double radius = 0.5 * std::max(a.v->length, a.v->width);
         const Vec2 f = social_force::force(params, s, radius, in.target, in.speed, peds, boxes);
-        const social_force::State n = social_force::step(params, s, f, in.speed, w.dt);
+        social_force::State n = social_force::step(params, s, f, in.speed, w.dt);
+        // Standing, it comes to rest once it has slowed to a standstill, and at rest (or
+        // creeping) it keeps its feet against pushes weaker than kHold.
+        if (standing && (norm(n.v) < kRestSpeed || (norm(s.v) < kCreep && norm(f) < kHold))) n = {s.p, {}};
         const double old_speed = a.speed;
         a.x = n.p.x;
         a.y = n.p.y;

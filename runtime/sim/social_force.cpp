@@ -110,6 +110,8 @@ Vec2 pedestrian_force(const Params& P, const State& s, Vec2 own, double radius, 
     const Vec2 n = distance > kTiny ? (1.0 / distance) * away : unit_or(s.v - o.v, {1.0, 0.0});
     const double gap = distance - (radius + o.radius);
     Vec2 f = decay(P.ped_strength, gap, P.ped_range) * n;
+    // Evading is walking: one who stands (no walking direction) keeps only the body force.
+    if (walk_dir == Vec2{}) return f;
 
     const Vec2 theirs = unit_or(o.v, {});
     const Vec2 reflected = theirs - (2.0 * dot(theirs, own)) * own;
@@ -181,6 +183,11 @@ BoxContact box_contact(const Obstacle& box, Vec2 p) {
     return contact(sanitized(box), clamp_vec(p, kMaxCoord));
 }
 
+bool standing(const Params& P, Vec2 p, Vec2 target, double desired_speed) {
+    const double v0 = std::max(0.0, clamp_finite(desired_speed, kMaxSpeed));
+    return !(v0 > 0) || length(clamp_vec(target, kMaxCoord) - clamp_vec(p, kMaxCoord)) < P.stand_distance;
+}
+
 double speed_cap(const Params& P, double desired_speed) {
     const double v0 = std::max(0.0, clamp_finite(desired_speed, kMaxSpeed));
     const double cap = std::max(P.max_speed_factor * v0, P.min_speed_cap);
@@ -194,7 +201,7 @@ Vec2 force(const Params& P, const State& state, double radius, Vec2 target, doub
     const Vec2 goal = clamp_vec(target, kMaxCoord);
     const double v0 = std::max(0.0, clamp_finite(desired_speed, kMaxSpeed));
 
-    const Vec2 walk_dir = v0 > 0 ? unit_or(goal - s.p, {}) : Vec2{};
+    const Vec2 walk_dir = standing(P, s.p, goal, v0) ? Vec2{} : unit_or(goal - s.p, {});
     const Vec2 own = unit_or(s.v, {});
     Vec2 push{};  // newtons
     for (const Neighbour& n : peds) {

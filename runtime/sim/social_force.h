@@ -11,7 +11,10 @@
 // sides and touch); obstacles push with the reference's border strength over a longer range
 // (its vehicle force is too weak to stop anyone); the detour round obstacles and the speed cap
 // are additions; sliding friction, body compression between pedestrians and the "following"
-// effect are left out (the reference disables or never adds the last two).
+// effect are left out (the reference disables or never adds the last two); a pedestrian who
+// stands (desired speed 0, or at its target) does not evade others, only their bodies push it (in the reference
+// standing pedestrians side-step one another for ever: two at their goals a metre apart kept
+// drifting at a quarter metre per second).
 //
 // Pure functions of their arguments: no allocation, no randomness, no state between calls, so
 // the simulation loop can run them for all pedestrians over one snapshot in any order.
@@ -100,6 +103,12 @@ struct Params {
     // Absolute cap [m/s]: a sprint; above the reference's fastest desired speed (2 m/s
     // default × 2 in IncreaseWalkingSpeed / ReturnToEntrance, ManeuverModels.py).
     double max_speed = 5.0;
+
+    // --- standing (not in the reference) ----------------------------------------------------
+    // Within this distance of its target a pedestrian stands, as one with desired speed 0 does
+    // [m]: its arrival speed is under 0.125 m/s there. A standing pedestrian does not evade
+    // others or walk round obstacles; only body forces move it.
+    double stand_distance = 0.25;
 };
 
 // Another pedestrian: a disc.
@@ -128,6 +137,9 @@ Vec2 force(const Params& params, const State& s, double radius, Vec2 target, dou
 // One step of `dt` seconds: semi-implicit Euler (velocity first, then position with the new
 // velocity), speed capped as Params says. Finite for any finite input.
 State step(const Params& params, const State& s, Vec2 force, double desired_speed, double dt);
+
+// Whether a pedestrian at `p` with this target and desired speed stands (Params::stand_distance).
+bool standing(const Params& params, Vec2 p, Vec2 target, double desired_speed);
 
 // The speed cap step() applies for `desired_speed`.
 double speed_cap(const Params& params, double desired_speed);

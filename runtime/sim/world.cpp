@@ -365,6 +365,7 @@ std::string World::init() {
         a.index = static_cast<int>(i);
         a.model = make_model(*a.v);
         if (auto e = place_agent(a); !e.empty()) return e;
+        widest_reach = std::max(widest_reach, 0.5 * std::hypot(a.v->length, a.v->width));
     }
     return "";
 }

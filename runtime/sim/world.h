@@ -204,6 +204,7 @@ struct World {
     std::vector<Agent> agents;
     std::vector<Snap> snapshot;
     Grid grid;  // the snapshot's agents by position (cells of the sensor range)
+    double widest_reach = 0;  // m: the largest half diagonal of any agent (set by init)
     // Reference lines of the drivers' paths (runtime/sim/road_cache.h): this run's own, or
     // those shared through RunOptions::roads.
     std::shared_ptr<PathCache> paths = std::make_shared<PathCache>();

@@ -238,3 +238,54 @@ TEST_CASE("on a real map, a pedestrian crosses by crosswalks that bring it neare
         }
     }
 }
+
+TEST_CASE("pedestrians standing close together stay at rest, and one walking through still passes") {
+    // Six pedestrians stand 0.6..1.0 m apart (gaps of 0.1..0.5 m between the bodies): in the
+    // reference's model standing neighbours side-step one another for ever (in the crowd at the
+    // goals of the pedestrian bench, 62 of 100 still moved, up to 0.26 m/s). They stay at rest;
+    // a walker that sets out at 10 s to a goal straight across the group gets there (round them
+    // or through) without overlapping anyone, and once it has passed they are at rest again.
+    const std::string trees =  // walk_from: stands until `start`, then walks to its goal
+        "tree walk_from(start: time = 0 s) { fallback {\n"
+        "    sequence { condition sim_time(before = start)  maneuver stand() }\n"
+        "    sequence { condition reached_goal(distance = 0.5 m)  maneuver stand() }\n"
+        "    maneuver walk(speed = 1.2 m/s) } }\n"
+        "tree stay() { maneuver stand() }\n";
+    for (const double spacing : {0.6, 0.8, 1.0}) {
+        for (const bool through : {false, true}) {
+            std::string text = std::string(kRoad) + trees + "scenario s { road main  timeout 40 s\n";
+            int n = 0;
+            for (int row = 0; row < 2; ++row) {
+                for (int col = 0; col < 3; ++col, ++n) {
+                    const double x = 160 + spacing * col, y = -10 - spacing * row;
+                    text += "  pedestrian p" + std::to_string(n) + ": sdp { start at (" + fmt(x) + " m, " + fmt(y) + " m) tree stay() }\n";
+                }
+            }
+            // From below the group to above it, straight through its middle.
+            if (through) {
+                text += "  pedestrian walker: sdp { start at (" + fmt(160 + spacing) + " m, -20 m) goal at (" + fmt(160 + spacing) +
+                        " m, -2 m) tree walk_from(start = 10 s) }\n";
+            }
+            text += "}\n";
+            auto p = test::compile_text(text);
+            REQUIRE(p);
+            CAPTURE(spacing);
+            CAPTURE(through);
+            double closest = INFINITY, fastest_before = 0, fastest_after = 0;
+            const auto r = run(*p, [&](const sim::World& w, double t) {
+                for (int i = 0; i < n; ++i) {
+                    const auto& a = w.agents[static_cast<size_t>(i)];
+                    for (size_t j = static_cast<size_t>(i) + 1; j < w.agents.size(); ++j) {
+                        closest = std::min(closest, std::hypot(a.x - w.agents[j].x, a.y - w.agents[j].y));
+                    }
+                    if (t >= 5 && t < 10) fastest_before = std::max(fastest_before, a.speed);
+                    if (t >= 30) fastest_after = std::max(fastest_after, a.speed);
+                }
+            });
+            CHECK(fastest_before == 0.0);
+            CHECK(fastest_after == 0.0);
+            CHECK(closest >= 0.5 - 0.05);  // discs of 0.25 m, within the model's tolerance
+            if (through) CHECK(r.vehicles.at(static_cast<size_t>(n)).reached_goal);
+        }
+    }
+}
