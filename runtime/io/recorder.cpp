@@ -184,9 +184,16 @@ std::string road_json(const sim::World& w) {
         pts(l.left_bound);
         o << ",\"right\":";
         pts(l.right_bound);
-        if (l.stop_line_s) {
-            const auto p = net.reference(l.id).point(*l.stop_line_s);
-            o << ",\"stop_line\":[" << fmt(p.x, 2) << "," << fmt(p.y, 2) << "]";
+        // Its stop lines: [x, y, the light that controls it or -1].
+        if (!l.stop_lines.empty()) {
+            o << ",\"stop_lines\":[";
+            for (size_t k = 0; k < l.stop_lines.size(); ++k) {
+                const auto& line = l.stop_lines[k];
+                const auto p = net.reference(l.id).point(line.s);
+                o << (k ? "," : "") << "[" << fmt(p.x, 2) << "," << fmt(p.y, 2) << ","
+                  << (line.traffic_lights.empty() ? -1 : line.traffic_lights.front()) << "]";
+            }
+            o << "]";
         }
         o << "}";
     }

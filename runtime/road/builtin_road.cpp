@@ -134,15 +134,6 @@ double stop_s_before(const RoadNetwork& net, LaneId id, const Crosswalk& cw, dou
     return entry_s(net, id, cw, s_cross) - kStopGap;
 }
 
-// Sets the lane's stop line to `stop` unless it has one nearer its start. A lane holds one stop
-// line, so it keeps the first one a vehicle meets (a later crosswalk on the same lane still has
-// its crossing, where vehicles yield, but no stop line of its own). Returns whether it is set.
-bool keep_stop_line(Lane& lane, double stop) {
-    if (lane.stop_line_s && *lane.stop_line_s <= stop) return false;
-    lane.stop_line_s = stop;
-    return true;
-}
-
 // The crossing of lane `id` by `cw` (the first, by s; nullptr if none).
 const Crosswalk::Crossing* crossing_of(const Crosswalk& cw, LaneId id) {
     const Crosswalk::Crossing* best = nullptr;
@@ -221,12 +212,8 @@ void add_road_crosswalk_light(RoadNetwork& net, Crosswalk& cw, Vec2 position, co
             continue;
         }
         tl.lanes.push_back(x.lane);
-        // The light of the lane's stop line comes first (what the simulator reads).
-        if (keep_stop_line(lane, stop)) {
-            lane.traffic_lights.insert(lane.traffic_lights.begin(), tl.id);
-        } else {
-            lane.traffic_lights.push_back(tl.id);
-        }
+        lane.add_stop_line(stop, {tl.id});
+        lane.traffic_lights.push_back(tl.id);
     }
     cw.light = tl.id;
     cw.light_inverse = true;
@@ -291,8 +278,10 @@ void add_junction_crosswalks(const JunctionSpec& spec, const std::vector<std::ve
         for (LaneId l : incoming[static_cast<size_t>(arm_index(spec.crosswalks[i].arm))]) {
             const Crosswalk::Crossing* x = crossing_of(cw, l);
             if (!x) continue;
+            // The junction's stop line moves before the crosswalk, with its lights.
             const double stop = stop_s_before(net, l, cw, x->s);
-            if (stop >= 0) keep_stop_line(net.lane_mut(l), stop);
+            Lane& lane = net.lane_mut(l);
+            if (stop >= 0 && !lane.stop_lines.empty() && lane.stop_lines.back().s > stop) lane.stop_lines.back().s = stop;
         }
     }
 }
@@ -397,7 +386,7 @@ BuildResult build_junction(const JunctionSpec& spec) {
             li.right_bound = offset_polyline(li.centre, -0.5 * w);
             li.width = w;
             li.speed_limit = spec.speed_limit_mps;
-            li.stop_line_s = polyline_length(li.centre);
+            li.add_stop_line(polyline_length(li.centre));
             li.all_way_stop = spec.control == JunctionSpec::stop_signs;
             in[a][k] = out.network.add_lane(std::move(li));
             Lane lo;
@@ -477,7 +466,9 @@ BuildResult build_junction(const JunctionSpec& spec) {
             for (int a : {g, g + 2}) {  // north/south = arms 0, 2; east/west = 1, 3
                 for (int k = 1; k <= n; ++k) {
                     tl.lanes.push_back(in[a][k]);
-                    out.network.lane_mut(in[a][k]).traffic_lights.push_back(g);
+                    Lane& lane = out.network.lane_mut(in[a][k]);
+                    lane.stop_lines.back().traffic_lights.push_back(g);
+                    lane.traffic_lights.push_back(g);
                 }
             }
             tl.position = out.network.lane(tl.lanes[0]).centre.back();

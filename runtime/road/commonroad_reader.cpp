@@ -265,17 +265,18 @@ LoadResult parse_commonroad(const std::string& xml) {
                 const Vec2 mid = 0.5 * (pts->front() + pts->back());
                 const FrenetState f = ref.project(mid);
                 if (f.s >= -2 && f.s <= ref.length() + 2 && std::fabs(f.d) < 0.5 * lane.width + 3)
-                    lane.stop_line_s = std::clamp(f.s, 0.0, ref.length());
+                    lane.stop_lines.assign(1, StopLine{std::clamp(f.s, 0.0, ref.length()), {}});
                 else
                     rd.warning(stop, where, "the stop line does not lie across the lanelet; ignored");
             } else if (pts) {
-                lane.stop_line_s = ref.length();  // no points: the lanelet's end
+                lane.stop_lines.assign(1, StopLine{ref.length(), {}});  // no points: the lanelet's end
             }
         }
         for (int32_t l : lights) {
             lane.traffic_lights.push_back(l);
             net.lights[static_cast<size_t>(l)].lanes.push_back(en.lane);
         }
+        for (StopLine& line : lane.stop_lines) line.traffic_lights = lane.traffic_lights;
     }
     // Intersections: the lanelets an incoming leads into are junction lanes with their turn.
     for (auto in : root.children("intersection")) {

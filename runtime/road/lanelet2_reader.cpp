@@ -794,8 +794,9 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
         const Vec2 mid = 0.5 * (pts.front() + pts.back());
         const auto& ref = net.reference(a.lane);
         const FrenetState f = ref.project(mid);
+        // One stop line per lanelet: the last its elements give (maps draw one per lanelet).
         if (f.s >= -2 && f.s <= ref.length() + 2 && std::fabs(f.d) < 0.5 * lane.width + 3) {
-            lane.stop_line_s = std::clamp(f.s, 0.0, ref.length());
+            lane.stop_lines.assign(1, StopLine{std::clamp(f.s, 0.0, ref.length()), {}});
         }
     };
     for (const LL& a : lls) {
@@ -825,6 +826,11 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
                 if (yields && m.role == "ref_line" && m.type == "way") attach_stop_line(a, m.ref);
             }
         }
+    }
+    // A lanelet's lights control its stop line.
+    for (const LL& a : lls) {
+        Lane& lane = net.lane_mut(a.lane);
+        for (StopLine& line : lane.stop_lines) line.traffic_lights = lane.traffic_lights;
     }
     // Right of way: yield and priority lanelets.
     for (Id id : rel_order) {

@@ -8,6 +8,23 @@
 
 namespace sdv::road {
 
+void Lane::add_stop_line(double s, const std::vector<int32_t>& lights) {
+    auto it = std::lower_bound(stop_lines.begin(), stop_lines.end(), s - 0.01,
+                               [](const StopLine& l, double v) { return l.s < v; });
+    if (it == stop_lines.end() || it->s > s + 0.01) it = stop_lines.insert(it, StopLine{s, {}});
+    for (const int32_t l : lights) {
+        if (std::find(it->traffic_lights.begin(), it->traffic_lights.end(), l) == it->traffic_lights.end()) it->traffic_lights.push_back(l);
+    }
+}
+
+const StopLine* Lane::stop_line_from(double s) const {
+    for (const StopLine& l : stop_lines) {
+        if (l.s >= s) return &l;
+    }
+    return nullptr;
+}
+
+
 double polyline_length(const std::vector<Vec2>& pts) {
     double l = 0;
     for (size_t i = 1; i < pts.size(); ++i) l += distance(pts[i - 1], pts[i]);

@@ -20,6 +20,13 @@ inline constexpr LaneId kNoLane = -1;
 
 enum class Turn { none, straight, left, right };
 
+// A line across a lane where vehicles stop: before a junction, a crosswalk, a stop sign. A lane
+// may have several (two signalised crosswalks on one road); each has the lights that control it.
+struct StopLine {
+    double s = 0.0;                      // along the lane's centre line
+    std::vector<int32_t> traffic_lights;  // the first is the one drivers read
+};
+
 struct Lane {
     LaneId id = kNoLane;
     std::string name;               // built-in: "<road>.<index>"; Lanelet2: the lanelet id
@@ -31,12 +38,20 @@ struct Lane {
     std::vector<LaneId> successors, predecessors;
     LaneId left = kNoLane, right = kNoLane;
     bool left_same_direction = true, right_same_direction = true;
-    std::optional<double> stop_line_s;  // along the centre line
+    std::vector<StopLine> stop_lines;   // by s
+    // Every light that controls the lane: those of its stop lines, and (Lanelet2) those its
+    // regulatory elements name, with or without a stop line.
     std::vector<int32_t> traffic_lights;
     bool all_way_stop = false;
     int32_t right_of_way = -1;      // index into RoadNetwork::rights_of_way
     bool in_junction = false;
     Turn turn = Turn::none;
+
+    // Adds a stop line at `s` controlled by `lights` (appended to those of a stop line within
+    // 1 cm of it), keeping the lines ordered by s.
+    void add_stop_line(double s, const std::vector<int32_t>& lights = {});
+    // The first stop line at or after `s`; nullptr if none.
+    const StopLine* stop_line_from(double s) const;
 };
 
 struct TrafficLight {

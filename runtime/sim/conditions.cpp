@@ -167,7 +167,8 @@ bool along_path(Leaves& l, const ir::Node& n, ConditionKind kind) {
         const auto& ln = l.w.net.lane(d.path[i]);
         const double start = d.path_start[i];
         if (start > self_s + look) break;
-        const bool stop_ahead = ln.stop_line_s && start + *ln.stop_line_s >= self_s - 0.5 && start + *ln.stop_line_s <= self_s + look;
+        const road::StopLine* line = ln.stop_line_from(self_s - 0.5 - start);  // a lane may have several
+        const bool stop_ahead = line != nullptr && start + line->s <= self_s + look;
         if (kind == ConditionKind::approaching_stop) {
             const auto* k = l.param(n, "kind");
             const int want = k == nullptr ? 2 : k->choice;
@@ -176,9 +177,9 @@ bool along_path(Leaves& l, const ir::Node& n, ConditionKind kind) {
             continue;
         }
         if (kind == ConditionKind::traffic_light) {
-            if (!stop_ahead || ln.traffic_lights.empty()) continue;
+            if (!stop_ahead || line->traffic_lights.empty()) continue;
             const auto* st = l.param(n, "state");
-            const std::string state = l.w.light_state(ln.traffic_lights.front(), l.t0);
+            const std::string state = l.w.light_state(line->traffic_lights.front(), l.t0);
             static const char* kStates[] = {"red", "yellow", "green"};
             return st != nullptr && state == kStates[st->choice];
         }
@@ -186,7 +187,8 @@ bool along_path(Leaves& l, const ir::Node& n, ConditionKind kind) {
         if (stop_ahead || ln.in_junction) {
             const auto* ty = l.param(n, "type");
             const int want = ty == nullptr ? 3 : ty->choice;
-            const int have = !ln.traffic_lights.empty() ? 1 : ln.all_way_stop ? 0 : ln.right_of_way >= 0 ? 2 : 3;
+            const bool lit = !(stop_ahead ? line->traffic_lights : ln.traffic_lights).empty();
+            const int have = lit ? 1 : ln.all_way_stop ? 0 : ln.right_of_way >= 0 ? 2 : 3;
             return want == have;
         }
     }
@@ -284,7 +286,7 @@ double distance_to(const road::RoadNetwork& net, LaneId lane, double s, Arrive a
     if (lane == kNoLane || depth > 12) return INFINITY;
     const auto& ln = net.lane(lane);
     if (at == Arrive::junction && ln.in_junction) return 0;
-    if (at == Arrive::stop_line && ln.stop_line_s && *ln.stop_line_s >= s - 0.5) return std::max(0.0, *ln.stop_line_s - s);
+    if (const auto* line = at == Arrive::stop_line ? ln.stop_line_from(s - 0.5) : nullptr) return std::max(0.0, line->s - s);
     if (at == Arrive::crossing) {
         if (auto x = crossing_after(net, lane, s)) return std::max(0.0, *x - s);
     }
@@ -320,8 +322,8 @@ bool time_to_arrival(Leaves& l, const ir::Node& n, int32_t) {
                 dist = std::max(0.0, start - front);
                 break;
             }
-            if (at == Arrive::stop_line && ln.stop_line_s && start + *ln.stop_line_s >= front - 0.5) {
-                dist = std::max(0.0, start + *ln.stop_line_s - front);
+            if (const auto* line = at == Arrive::stop_line ? ln.stop_line_from(front - 0.5 - start) : nullptr) {
+                dist = std::max(0.0, start + line->s - front);
                 break;
             }
             if (at == Arrive::crossing) {
@@ -340,8 +342,7 @@ bool time_to_arrival(Leaves& l, const ir::Node& n, int32_t) {
 
 bool pedestrian_crossing(Leaves& l, const ir::Node& n, int32_t) { return pedestrian_ahead(l, l.num(n, "distance")).has_value(); }
 
-// Conditions of pedestrians' trees: their leaves are answered in pedestrian_leaves.cpp (the
-// checker keeps them out of vehicles' trees, E0411).
+// Pedestrians' conditions: answered in pedestrian_leaves.cpp (E0411 keeps them out of vehicles' trees).
 bool for_pedestrians(Leaves&, const ir::Node&, int32_t) { return false; }
 
 constexpr size_t kConditionKinds = static_cast<size_t>(ConditionKind::accept_gap) + 1;

@@ -351,7 +351,9 @@ void GroundTruth::measure_vehicles(World& w, double t, int tick) {
         // Stopping at a stop line (the front bumper within 5 m before it) is remembered.
         if (a.lane != kNoLane && std::fabs(a.speed) < 0.1) {
             const auto& l = w.net.lane(a.lane);
-            const double g = l.stop_line_s ? *l.stop_line_s - (a.lane_s + 0.5 * a.v->length) : -1;
+            const double front = a.lane_s + 0.5 * a.v->length;
+            const auto* line = l.stop_line_from(front - 0.5);
+            const double g = line != nullptr ? line->s - front : -1;
             if (g >= -0.5 && g <= 5.0 && (a.stopped_line != a.lane || g < a.stopped_gap)) {
                 if (a.stopped_line != a.lane) a.stopped_line_since = t;
                 a.stopped_line = a.lane;

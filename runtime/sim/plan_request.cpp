@@ -81,9 +81,11 @@ void make_request(const Leaves& l, int32_t sel, PlanInputs& out) {
                     req.stop_s = d.path_start[i] + a.goal_s;
                     break;
                 }
-                if (which == planner::StopTarget::stop_line && ln.stop_line_s && d.path_start[i] + *ln.stop_line_s >= l.view.self.s - 1) {
-                    req.stop_s = d.path_start[i] + *ln.stop_line_s - 0.5 * a.v->length;
-                    break;
+                if (which == planner::StopTarget::stop_line) {
+                    if (const auto* line = ln.stop_line_from(l.view.self.s - 1 - d.path_start[i])) {
+                        req.stop_s = d.path_start[i] + line->s - 0.5 * a.v->length;
+                        break;
+                    }
                 }
             }
             if (which == planner::StopTarget::position) {

@@ -27,7 +27,7 @@ struct Watch : sim::RunObserver {
         if (!std::isnan(time) || a.driver->maneuver_name != "near") return;
         const sim::Agent& o = w.agents[static_cast<size_t>(observed)];
         const auto& ln = w.net.lane(o.lane);
-        const double end = to_stop_line && ln.stop_line_s ? *ln.stop_line_s : ln.length;
+        const double end = to_stop_line && !ln.stop_lines.empty() ? ln.stop_lines.front().s : ln.length;
         dist = end - o.lane_s - 0.5 * o.v->length;
         speed = o.speed;
         time = t;

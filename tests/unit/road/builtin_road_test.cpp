@@ -91,8 +91,9 @@ TEST_CASE("junction: lanes, connectors, stop lines, lights") {
     CHECK(net.lanes().size() == 4 * 2 + 4 * 3);
     const LaneId south_in = *net.find("x.south.in");
     const Lane& si = net.lane(south_in);
-    REQUIRE(si.stop_line_s);
-    CHECK(*si.stop_line_s == doctest::Approx(si.length));
+    REQUIRE(si.stop_lines.size() == 1);
+    CHECK(si.stop_lines[0].s == doctest::Approx(si.length));
+    CHECK(si.stop_lines[0].traffic_lights == std::vector<int32_t>{0});
     CHECK(si.successors.size() == 3);
     CHECK(si.centre.front().x == doctest::Approx(1.75));  // right-hand traffic: east side
     const Lane& left = net.lane(*net.find("x.south_to_west"));

@@ -63,16 +63,18 @@ void check_on_centre(const RoadNetwork& net, const Crosswalk& cw, const Crosswal
     CHECK(distance_to(cw.centre, p) < 0.05);
 }
 
-// The lane's stop line lies 1 m before the strip, in the lane's direction: 1 m further on is
-// the edge (half a width from the centre line) on the near side of the crossing.
-void check_stop_line(const RoadNetwork& net, const Crosswalk& cw, LaneId lane) {
+// The lane has a stop line 1 m before the strip, in the lane's direction: 1 m further on is the
+// edge (half a width from the centre line) on the near side of the crossing. Returns it.
+const StopLine& check_stop_line(const RoadNetwork& net, const Crosswalk& cw, LaneId lane) {
     const Lane& l = net.lane(lane);
-    REQUIRE_MESSAGE(l.stop_line_s.has_value(), "lane " << l.name);
-    const double edge = *l.stop_line_s + 1.0;
     const auto& x = crossing(cw, lane);
+    const StopLine* line = l.stop_line_from(x.s - cw.width - 1.0);
+    REQUIRE_MESSAGE(line != nullptr, "lane " << l.name);
+    const double edge = line->s + 1.0;
     CHECK(edge < x.s);
     CHECK(edge > x.s - cw.width);
     CHECK(distance_to(cw.centre, net.reference(lane).point(edge)) == doctest::Approx(0.5 * cw.width).epsilon(0.01));
+    return *line;
 }
 
 RoadSpec road(std::vector<Segment> segments, int forward, int backward) {
@@ -148,17 +150,19 @@ TEST_CASE("road crosswalks cross every lane once, on the crosswalk, with stop li
                     }
                 }
                 if (!signalised) {
-                    for (const auto& l : net.lanes()) CHECK(!l.stop_line_s);
+                    for (const auto& l : net.lanes()) CHECK(l.stop_lines.empty());
                     continue;
                 }
-                // A lane keeps the stop line it meets first: forward lanes crosswalk a, backward c.
+                // Every lane has a stop line before each of the three, with that crosswalk's
+                // light, in the order the lane meets them.
                 for (const auto& l : net.lanes()) {
-                    const bool forward = l.name.find(".-") == std::string::npos;
-                    const Crosswalk& first = net.crosswalks[forward ? 0 : 2];
                     CAPTURE(l.name);
-                    check_stop_line(net, first, l.id);
-                    REQUIRE(!l.traffic_lights.empty());
-                    CHECK(l.traffic_lights.front() == first.light);
+                    CHECK(l.stop_lines.size() == 3);
+                    for (const auto& cw : net.crosswalks) {
+                        const StopLine& line = check_stop_line(net, cw, l.id);
+                        CHECK(line.traffic_lights == std::vector<int32_t>{cw.light});
+                    }
+                    for (size_t k = 1; k < l.stop_lines.size(); ++k) CHECK(l.stop_lines[k - 1].s < l.stop_lines[k].s);
                 }
             }
         }
@@ -213,14 +217,16 @@ TEST_CASE("junction crosswalks cross their arm's lanes, move its stop lines back
                     check_on_centre(net, cw, crossing(cw, out));
                     // Incoming: the stop line moved back to 1 m before the strip; outgoing: none.
                     check_stop_line(net, cw, in);
-                    CHECK(*net.lane(in).stop_line_s == doctest::Approx(spec.arm_length_m - gap - width - 1).epsilon(1e-4));
-                    CHECK(!net.lane(out).stop_line_s);
+                    REQUIRE(net.lane(in).stop_lines.size() == 1);
+                    CHECK(net.lane(in).stop_lines[0].s == doctest::Approx(spec.arm_length_m - gap - width - 1).epsilon(1e-4));
+                    CHECK(net.lane(out).stop_lines.empty());
                 }
                 // The other arms keep their stop lines at the junction box.
                 for (int b = 0; b < 4; ++b) {
                     if (b == a) continue;
                     const Lane& in = net.lane(*net.find(std::string("j.") + arms[b] + ".in" + (n > 1 ? ".1" : "")));
-                    CHECK(*in.stop_line_s == doctest::Approx(in.length));
+                    REQUIRE(in.stop_lines.size() == 1);
+                    CHECK(in.stop_lines[0].s == doctest::Approx(in.length));
                 }
                 CHECK(!cw.light_inverse);
                 if (control == JunctionSpec::traffic_lights) {

@@ -85,7 +85,7 @@ TEST_CASE("on the real maps, approaches are never in a junction and what they le
             junction += l.in_junction;
             // An approach: a stop line at its end, leading into two or more lanes (a junction,
             // not a stop line mid-road before a crosswalk).
-            if (!l.stop_line_s || l.length - *l.stop_line_s > 3 || l.successors.size() < 2) continue;
+            if (l.stop_lines.empty() || l.length - l.stop_lines.back().s > 3 || l.successors.size() < 2) continue;
             ++approaches;
             CHECK_MESSAGE(!l.in_junction, "approach " << l.name);
             for (LaneId s : l.successors) CHECK_MESSAGE(net.lane(s).in_junction, l.name << " -> " << net.lane(s).name);

@@ -35,7 +35,7 @@ TEST_CASE("mapping_example.osm: lanelets, traffic lights, stop lines") {
     int controlled = 0, stop_lines = 0;
     for (const auto& l : r.network->lanes()) {
         controlled += !l.traffic_lights.empty();
-        stop_lines += l.stop_line_s.has_value();
+        stop_lines += !l.stop_lines.empty();
     }
     CHECK(controlled > 0);
     CHECK(stop_lines >= controlled);
@@ -66,8 +66,8 @@ TEST_CASE("mapping_example.osm: routing and neighbours") {
     CHECK(net.lane(s1).left != s2);
     CHECK(net.lane(s2).left != s1);
     // Regulatory element 45230 makes 45014 and 45016 yield: they get its stop line.
-    CHECK(net.lane(id(net, "45014")).stop_line_s.has_value());
-    CHECK(net.lane(id(net, "45016")).stop_line_s.has_value());
+    CHECK(net.lane(id(net, "45014")).stop_lines.size() == 1);
+    CHECK(net.lane(id(net, "45016")).stop_lines.size() == 1);
 }
 
 TEST_CASE("the GeoScenario maps load") {
