@@ -954,12 +954,15 @@ std::optional<std::string> BtreeLibrary::call_with_config(const std::string& nam
     // .reconfigure_nodes): `NODE=MConfigClass(...)` for a maneuver, `NODE=condition,args=(k=v,...)`
     // for a condition. The maneuvers' are read as the overrides of a subtree reference, the
     // conditions' as condition nodes.
+    // One line of the synthetic .btree text below: a tag value's line breaks (&#10;) are spaces.
+    std::string flat = config;
+    std::replace_if(flat.begin(), flat.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
     std::string maneuvers, conditions;
     size_t begin = 0;
-    while (begin <= config.size()) {
-        size_t end = config.find(';', begin);
-        if (end == std::string::npos) end = config.size();
-        std::string item = config.substr(begin, end - begin);
+    while (begin <= flat.size()) {
+        size_t end = flat.find(';', begin);
+        if (end == std::string::npos) end = flat.size();
+        std::string item = flat.substr(begin, end - begin);
         begin = end + 1;
         item.erase(0, std::min(item.find_first_not_of(" \t"), item.size()));
         while (!item.empty() && (item.back() == ' ' || item.back() == '\t')) item.pop_back();
