@@ -1007,7 +1007,10 @@ void BtreeLibrary::condition_overrides(const BtNode& leaf, const Lowered& root, 
     const auto found = find_node(root, leaf.label, true);
     if (!found || !found->info->mconfig.empty()) {
         auto& d = diags_.error("E0908", leaf.label_range, "the tree '" + root.name + "' has no condition node '" + leaf.label + "'");
-        if (found) d.notes.push_back({{}, "its first node named '" + leaf.label + "' is a maneuver: write " + leaf.label + "=MConfigClass(...)"});
+        if (found) {
+            d.notes.push_back({{}, "its first node named '" + leaf.label + "' is a maneuver: write " + leaf.label +
+                                       "=MConfigClass(...)"});
+        }
         return;
     }
     const NodeInfo& info = *found->info;
@@ -1055,7 +1058,8 @@ void BtreeLibrary::condition_overrides(const BtNode& leaf, const Lowered& root, 
     if (!lowered.unsupported.empty() || !lowered.any_of.empty() || lowered.drop || lowered.name != original.name ||
         lowered.once != original.once || lowered.negate != original.negate) {
         diags_.error("E0913", leaf.label_range, "the condition node '" + leaf.label + "' cannot be reconfigured so by sdv")
-            .notes.push_back({{}, lowered.unsupported.empty() ? "its arguments lower it to another shape of sdv nodes" : lowered.unsupported});
+            .notes.push_back({{}, lowered.unsupported.empty() ? "its arguments lower it to another shape of sdv nodes"
+                                                               : lowered.unsupported});
         return;
     }
     for (const Arg& a : lowered.args) out.push_back(found->path + info.sdv_label + "." + a.name + " = " + a.text);

@@ -15,9 +15,9 @@ using road::Vec2;
 // Neighbours farther than this exert no noticeable force (the largest range of the model is
 // under 1 m; a car's box is measured from its centre, so add half a bus).
 constexpr double kNeighbourRadius = 12.0;  // m
-// A standing pedestrian (desired speed 0, or at its target) does not evade (social_force.h): only body forces
-// move it, and those of anything farther than this gap are negligible (the obstacle force, the
-// longer-ranged, is 1500 N · e^(−2/0.25) = 0.5 N there: under 0.01 m/s²).
+// A standing pedestrian (desired speed 0, or at its target) does not evade (social_force.h):
+// only body forces move it, and those of anything farther than this gap are negligible (the
+// obstacle force, the longer-ranged, is 1500 N · e^(−2/0.25) = 0.5 N there: under 0.01 m/s²).
 constexpr double kStandReach = 2.0;  // m
 // A standing pedestrian slower than this has come to rest.
 constexpr double kRestSpeed = 0.005;  // m/s
