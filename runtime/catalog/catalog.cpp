@@ -461,6 +461,13 @@ std::vector<ConditionDef> build_conditions() {
         {choice("state", {"red", "yellow", "green"}, std::nullopt, "light state"),
          qty("distance", Dim::length, DefaultValue{100}, 0, kMaxDistance,
              "ignore lights farther than this")});
+    add("stop_for_light", ConditionKind::stop_for_light,
+        "the light ahead is red or yellow and the driver stops for it: it could when it first saw "
+        "it so (its front bumper at the stop line at no more than `decel`), and a driver that "
+        "decided to stop keeps to it until green; one that could not goes on (the dilemma zone)",
+        {qty("distance", Dim::length, DefaultValue{60}, 0, kMaxDistance, "ignore lights farther than this"),
+         qty("decel", Dim::accel, DefaultValue{3}, 0, kMaxAcc,
+             "the hardest constant deceleration the driver stops with")});
     add("intersection_type", ConditionKind::intersection_type,
         "the next intersection on the route is of a type",
         {choice("type", {"all_way_stop", "traffic_light", "yield", "none", "pedestrian_crossing"}, std::nullopt,

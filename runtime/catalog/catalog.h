@@ -116,6 +116,7 @@ enum class ConditionKind {
     at_lane_change_segment,
     approaching_stop,
     traffic_light,
+    stop_for_light,
     intersection_type,
     yield_role,
     intersection_occupied,

@@ -1,6 +1,6 @@
-// The catalog's conditions (docs/catalog.md), one function each, dispatched by
-// catalog::ConditionKind through condition_table(). Each reads the driver's view (own state at
-// the plan's start, the perceived agents) and the road; only `wait` keeps state (its timer).
+// The catalog's conditions (docs/catalog.md), one function each, dispatched by catalog::ConditionKind
+// through condition_table(). Each reads the driver's view (own state at the plan's start, the
+// perceived agents) and the road; `wait` and stop_for_light (lights.cpp) keep state.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -365,6 +365,7 @@ constexpr std::array<ConditionEntry, kConditionKinds> kTable = {{
     {ConditionKind::at_lane_change_segment, at_lane_change_segment},
     {ConditionKind::approaching_stop, approaching_stop},
     {ConditionKind::traffic_light, traffic_light},
+    {ConditionKind::stop_for_light, stop_for_light},
     {ConditionKind::intersection_type, intersection_type},
     {ConditionKind::yield_role, yield_role},
     {ConditionKind::intersection_occupied, intersection_occupied},
@@ -386,9 +387,7 @@ constexpr std::array<ConditionEntry, kConditionKinds> kTable = {{
 }};
 
 constexpr bool in_kind_order() {
-    for (size_t i = 0; i < kTable.size(); ++i) {
-        if (static_cast<size_t>(kTable[i].kind) != i) return false;
-    }
+    for (size_t i = 0; i < kTable.size(); ++i) if (static_cast<size_t>(kTable[i].kind) != i) return false;
     return true;
 }
 static_assert(in_kind_order(), "the condition table must follow catalog::ConditionKind");

@@ -53,5 +53,7 @@ struct ConditionEntry {
     ConditionFn fn;
 };
 std::span<const ConditionEntry> condition_table();
+// stop_for_light (lights.cpp): keeps the driver's decision in Driver::light_stop.
+bool stop_for_light(Leaves& leaves, const ir::Node& node, int32_t index);
 
 }  // namespace sdv::sim

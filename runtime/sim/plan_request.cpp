@@ -14,6 +14,35 @@ planner::Sampled to_sampled(const ir::Sampled& s) {
     return {s.value, s.lo, s.hi, s.samples, static_cast<planner::SampleMethod>(static_cast<int>(s.method)), s.sigma};
 }
 
+// A driver ahead moving at least this fast is still on its way to the point (m/s).
+constexpr double kQueueMoving = 1.5;
+
+// The centre at which a driver stops for a point ahead (`stop_s`, the centre on it), short of the
+// drivers queued before it. Those in the own lane ahead whose rear is short of the point stand
+// there too: where they are if at rest, and if `shared` (a red line or a pedestrian: everyone's
+// stop), one behind the other up to the point if still moving. Each leaves the standstill gap of
+// `follow` to the one ahead. Without this a stop planned to the point through a slower driver
+// ahead (predicted at constant speed) and only the collision check, too late, held it back.
+double queue_point(const Leaves& l, double stop_s, bool shared) {
+    const double len = l.a.v->length;
+    const double gap = planner::default_config(ManeuverKind::follow).stop_distance;
+    thread_local std::vector<const Seen*> ahead;
+    ahead.clear();
+    for (const Seen& s : l.view.seen) {
+        if (l.w.snapshot[static_cast<size_t>(s.index)].pedestrian || l.view.band_of(s.f.d) != 0) continue;
+        if (s.f.s - l.view.self.s <= 0.5 * (s.length + len)) continue;  // beside or behind
+        if (s.f.s - 0.5 * s.length < stop_s + 0.5 * len) ahead.push_back(&s);
+    }
+    std::sort(ahead.begin(), ahead.end(), [](const Seen* a, const Seen* b) { return a->f.s > b->f.s; });
+    double slot = stop_s + 0.5 * len;  // the front bumper's limit
+    for (const Seen* s : ahead) {
+        const double front = s->f.s + 0.5 * s->length;
+        const double rest = shared && s->f.s_d >= kQueueMoving ? std::max(slot, front) : front;
+        slot = std::min(slot, rest - s->length - gap);
+    }
+    return slot - 0.5 * len;
+}
+
 }  // namespace
 
 void apply_params(const ir::Node& n, planner::ManeuverConfig& cfg) {
@@ -98,6 +127,13 @@ void make_request(const Leaves& l, int32_t sel, PlanInputs& out) {
                 const auto y = pedestrian_ahead(l, kPedestrianLookAhead);
                 if (y) req.stop_s = y->stop_s;
                 else cfg.stop_at = planner::StopTarget::now;
+            }
+            if (cfg.stop_at != planner::StopTarget::now) {
+                const bool shared = which == planner::StopTarget::stop_line || which == planner::StopTarget::pedestrian;
+                const double queued = queue_point(l, req.stop_s - cfg.stop_before, shared);
+                // The gap to the driver ahead is the queue's, whatever `distance` the stop keeps
+                // before its point.
+                if (queued < req.stop_s - cfg.stop_before) req.stop_s = queued + cfg.stop_before;
             }
         }
     }

@@ -111,6 +111,9 @@ struct Driver {
     uint32_t plan_count = 0;
     // `wait` timers: node index → (time first ticked, plan_count of the last tick).
     std::map<int32_t, std::pair<double, uint32_t>> waits;
+    // The stop line whose red or yellow light this driver decided to stop at (stop_for_light),
+    // until the light is green again.
+    const road::StopLine* light_stop = nullptr;
     // Results of the last cycle (written by the planning thread, applied in vehicle order).
     bool fallback = false;               // this cycle braked for want of a feasible plan
     const char* fallback_kind = nullptr;  // previous_plan, hold, comfortable_stop, emergency_stop
