@@ -107,13 +107,13 @@ def city_section(run):
              f"got through the junction, about {int(big[16].split(' /')[0]) / 16:.0f} per entry lane (what the lights let "
              f"through in {float(big[3]):g} s), {big[18]} stalled, "
              f"{big[19]} of the planning cycles fell back to braking, {queue} of those {total} on the entry lanes in",
-             "`follow` or `stop`, mostly in the queues: `std.drive` puts the stop at a red light before following, so a vehicle behind a queue plans",
-             "its stop at the stop line through the queue (every candidate collides), and a follower closing in on the",
-             "standing queue finds only candidates that would back up (rejected as `direction`); the fallback stop",
-             f"holds it behind the queue. Junction entries: {entries[0]} on green, {entries[1]} on yellow, {entries[2]} on red.",
-             "A vehicle that meets its red light a little late cannot plan the stop within the jerk limit, its",
-             "comfortable-stop fallback overshoots the stop line, and once past the line `std.drive` no longer sees",
-             "the light: it drives into the junction on red and brakes there, in the lanes of the next phase. The",
+             "`follow` or `stop`, mostly followers closing in on a standing queue: they find only candidates that",
+             "would back up (rejected as `direction`), and the fallback stop holds them behind it. A stop for a red",
+             "light plans behind the drivers queued before its line (until 2026-11-24 it planned to the line through",
+             "the queue, every candidate collided, and 0.95 % of all cycles fell back).",
+             f"Junction entries: {entries[0]} on green, {entries[1]} on yellow, {entries[2]} on red: a driver stops for a yellow or",
+             "red light when it can stop at the line at 3 m/s² (`stop_for_light`) and otherwise goes on before red (before,",
+             "21 entered on red: a late stop, braking too hard, overshot the line and then no longer saw the light). The",
              "planner lays every perceived vehicle's footprint along the driver's own lane (no heading), so a car",
              "standing crosswise with its end half a metre into a crossing lane is not in the way to the planner." +
              (f" Collisions: {crash_text}" + (" (each with a vehicle that entered on red)." if all_red else ".") if crashes else ""),
