@@ -462,9 +462,9 @@ std::vector<ConditionDef> build_conditions() {
          qty("distance", Dim::length, DefaultValue{100}, 0, kMaxDistance,
              "ignore lights farther than this")});
     add("stop_for_light", ConditionKind::stop_for_light,
-        "the light ahead is red or yellow and the driver stops for it: it could when it first saw "
-        "it so (its front bumper at the stop line at no more than `decel`), and a driver that "
-        "decided to stop keeps to it until green; one that could not goes on (the dilemma zone)",
+        "the light ahead is red or yellow and the driver stops for it: it can bring its front "
+        "bumper to rest at the stop line at no more than `decel`, or it decided so before (kept "
+        "until green); a driver too close to stop goes on (the dilemma zone)",
         {qty("distance", Dim::length, DefaultValue{60}, 0, kMaxDistance, "ignore lights farther than this"),
          qty("decel", Dim::accel, DefaultValue{3}, 0, kMaxAcc,
              "the hardest constant deceleration the driver stops with")});
