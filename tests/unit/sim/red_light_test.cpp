@@ -42,7 +42,7 @@ Family family(std::mt19937& rng) {
     f.green1 = red1(rng);
     f.green2 = f.green1 + red2(rng);
     std::string vehicles;
-    double front = 90;  // the first driver's centre: 55 m short of the first stop line
+    double front = 90;  // the first driver's centre: 57.5 m short of the first stop line
     for (int i = 0; i < n; ++i) {
         if (i > 0) front -= 4.5 + gap(rng);
         if (front < 5) break;
@@ -96,8 +96,8 @@ TEST_CASE("drivers queue at red lights: nobody runs a red or into the driver ahe
                     if (red && front_before[i] >= 0 && front_before[i] < past && front >= past) ++red_crossings;
                 }
                 front_before[i] = front;
-                // At rest while its light is red (a second after the stop, room to settle):
-                // the gap to what it waits behind.
+                // At rest while its light is red (after the first 5 s, not in the last second of
+                // red): the gap to what it waits behind.
                 if (a.speed > 0.05 || t < 5) continue;
                 const double line = front < 148.5 ? 147.5 : front < 298.5 ? 297.5 : INFINITY;
                 if (!std::isfinite(line) || t > (line < 200 ? f.green1 : f.green2) - 1) continue;
