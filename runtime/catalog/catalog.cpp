@@ -293,7 +293,10 @@ std::vector<ManeuverDef> build_maneuvers() {
     {
         auto m = make_maneuver(
             "stop", ManeuverKind::stop,
-            "stop at the goal, the next stop line, a position, or now (quintic)", "SUCCESS",
+            "stop at the goal, the next stop line, a position, or now (quintic); behind the drivers "
+            "queued in the own lane before the point (at a stop line or a pedestrian, those still "
+            "moving too, as they will queue up to it), a standstill gap of 3 m apart",
+            "SUCCESS",
             {sets(ConfigField::stop_at, choice("at", {"goal", "stop_line", "position", "now", "pedestrian"}, 3,
                  "where to stop (pedestrian: before the crosswalk of the nearest pedestrian that "
                  "`pedestrian_crossing` sees, or before the pedestrian itself off a crosswalk)")),
