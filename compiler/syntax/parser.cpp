@@ -1211,7 +1211,6 @@ std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& s
 std::string dump_tokens(diag::FileId file, const diag::SourceManager& sm) {
     const std::string_view text = sm.contents(file);
     if (find_invalid_utf8(text) != std::string_view::npos) return "";
-    const std::vector<uint32_t> offs = code_point_offsets(text);
     antlr4::ANTLRInputStream input(text.data(), text.size());
     SdvLexer lexer(&input);
     lexer.removeErrorListeners();
@@ -1219,12 +1218,12 @@ std::string dump_tokens(diag::FileId file, const diag::SourceManager& sm) {
     const auto& vocab = lexer.getVocabulary();
     for (auto& t : lexer.getAllTokens()) {
         if (t->getChannel() != Token::DEFAULT_CHANNEL) continue;
-        const size_t b = std::min(t->getStartIndex(), offs.size() - 1);
-        auto lc = sm.line_col({file, offs[b]});
+        // The lexer counts lines at '\n' and columns in code points, as SourceManager::line_col
+        // does, without a lookup per token (a long line has many tokens).
         std::string name = vocab.getSymbolicName(t->getType());
         if (name.empty()) name = vocab.getLiteralName(t->getType());
-        out += std::to_string(lc.line) + ":" + std::to_string(lc.col) + " " + name + " '" +
-               t->getText() + "'\n";
+        out += std::to_string(t->getLine()) + ":" + std::to_string(t->getCharPositionInLine() + 1) +
+               " " + name + " '" + t->getText() + "'\n";
     }
     return out;
 }
