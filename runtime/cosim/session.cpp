@@ -37,6 +37,7 @@ struct Session::Impl {
         r.seed = o.seed;
         r.threads = o.threads;
         r.trace = o.trace;
+        r.roads = o.roads;
         return r;
     }
 

@@ -3,7 +3,8 @@
 // server (server.h). A client claims external vehicles, sets each one's state at k+1, and steps:
 // every SDV is planned from the snapshot at k (Jacobi steps), so results never depend on the
 // client's speed or on thread counts. Nothing here reads the wall clock. Not thread-safe: one
-// thread per session; sessions share nothing, so a process may run several.
+// thread per session; sessions share nothing but an optional road cache (SessionOptions::roads,
+// thread-safe), so a process may run several.
 #pragma once
 
 #include <cstddef>
@@ -65,6 +66,10 @@ struct SessionOptions {
     bool trace = false;
     bool maneuver_events = true;   // report NPC maneuver changes as events
     std::string output_dir;        // empty: write no outputs
+    // The road network and path lines shared with other sessions and runs of this process
+    // (runtime/sim/road_cache.h): a session then starts without building its road. Null:
+    // built by the session. The states are the same bytes either way.
+    std::shared_ptr<sim::RoadCache> roads;
 };
 
 class Session {

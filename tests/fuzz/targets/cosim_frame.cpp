@@ -29,6 +29,7 @@
 #include "runtime/cosim/protocol.h"
 #include "runtime/cosim/replay.h"
 #include "runtime/cosim/session.h"
+#include "runtime/sim/road_cache.h"
 #include "tests/fuzz/targets/scratch.h"
 #include "tests/fuzz/targets/targets.h"
 
@@ -55,8 +56,12 @@ std::shared_ptr<const ir::Program> program() {
 }
 
 std::unique_ptr<cosim::Session> session(std::optional<uint64_t> seed) {
+    // The road is the embedded scenario's, the same for every input: built once (the input
+    // never reaches it), as the runs of a campaign share theirs.
+    static const auto roads = std::make_shared<sim::RoadCache>();
     cosim::SessionOptions options;
     options.seed = seed;
+    options.roads = roads;
     std::string error;
     auto s = cosim::Session::create(program(), 0, options, error);
     if (!s) fuzz::fail(kTarget, "no session: " + error);

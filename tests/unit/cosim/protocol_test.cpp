@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "cosim_fixture.h"
+#include "runtime/sim/road_cache.h"
 
 using namespace sdv;
 using namespace sdv::cosim;
@@ -129,6 +130,38 @@ TEST_CASE("protocol: binary and JSON sessions give the same observations, bit fo
                  .observation();
         REQUIRE(ob.SerializeAsString() == oj.SerializeAsString());
     }
+}
+
+TEST_CASE("protocol: sessions sharing a road cache give the same observations, bit for bit") {
+    // The first session with the cache builds the road, the second copies it; a third builds
+    // its own. All three must be the same run.
+    const auto roads = std::make_shared<sim::RoadCache>();
+    std::vector<std::unique_ptr<Session>> sessions;
+    for (const bool shared : {false, true, true}) {
+        SessionOptions o;
+        if (shared) o.roads = roads;
+        std::string error;
+        sessions.push_back(Session::create(test::cosim_program(), 0, o, error));
+        INFO(error);
+        REQUIRE(sessions.back());
+    }
+    std::vector<std::unique_ptr<Protocol>> protocols;
+    std::vector<v1::Observation> obs;
+    for (auto& s : sessions) {
+        protocols.push_back(std::make_unique<Protocol>(*s, WelcomeInfo{"test", "s.sdv", "00", "", false, 0, 0, 0},
+                                                       Encoding::binary));
+        obs.push_back(exchange(*protocols.back(), hello()).welcome().initial());
+    }
+    for (int k = 0; k < 60; ++k) {
+        for (size_t i = 0; i < protocols.size(); ++i) {
+            obs[i] = exchange(*protocols[i], step(static_cast<uint64_t>(k + 1), obs[i]))
+                         .step_result()
+                         .observation();
+        }
+        REQUIRE(obs[1].SerializeAsString() == obs[0].SerializeAsString());
+        REQUIRE(obs[2].SerializeAsString() == obs[0].SerializeAsString());
+    }
+    CHECK(obs[0].tick() == 60);
 }
 
 TEST_CASE("protocol: StepRequest before Hello is a PROTOCOL_VIOLATION") {
