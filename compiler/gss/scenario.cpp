@@ -18,6 +18,7 @@
 
 namespace sdv::compiler::gss {
 namespace fs = std::filesystem;
+using syntax::comment_text;
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -43,29 +44,6 @@ std::string ident(const std::string& raw, const std::string& fallback) {
     if (s.empty()) s = fallback;
     if (std::isdigit(static_cast<unsigned char>(s[0]))) s = fallback + "_" + s;
     return s;
-}
-
-// Text from the scenario file put into a comment of the converted .sdv: one line of valid
-// UTF-8, whatever the file holds (a name with a line break must not add statements).
-std::string comment_text(const std::string& raw) {
-    std::string out;
-    for (size_t i = 0; i < raw.size();) {
-        const auto c = static_cast<unsigned char>(raw[i]);
-        const size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
-        bool valid = n > 0 && i + n <= raw.size();
-        for (size_t k = 1; valid && k < n; ++k) valid = (static_cast<unsigned char>(raw[i + k]) >> 6) == 0x2;
-        if (!valid) {
-            out += '?';
-            ++i;
-        } else if (n == 1 && (c < 0x20 || c == 0x7f)) {
-            out += ' ';
-            ++i;
-        } else {
-            out.append(raw, i, n);
-            i += n;
-        }
-    }
-    return out;
 }
 
 // A light's name as the .sdv grammar reads it: names of letters, digits and `_` joined by '.'.

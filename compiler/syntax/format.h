@@ -20,4 +20,10 @@ std::optional<std::string> format(diag::FileId file, const diag::SourceManager& 
 // that write .sdv text, GeoScenario and recorded traffic, put around names and paths).
 std::string string_literal(const std::string& s);
 
+// Text from an input file put into a `#` comment of generated .sdv text: one line of valid UTF-8,
+// whatever the file holds. Control characters (line breaks included) become spaces and bytes
+// that are not UTF-8 '?', so the text can neither end the comment and add statements nor make
+// the generated file unreadable.
+std::string comment_text(const std::string& raw);
+
 }  // namespace sdv::compiler::syntax

@@ -1211,7 +1211,8 @@ std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& s
 std::string dump_tokens(diag::FileId file, const diag::SourceManager& sm) {
     const std::string_view text = sm.contents(file);
     if (find_invalid_utf8(text) != std::string_view::npos) return "";
-    antlr4::ANTLRInputStream input(text.data(), text.size());
+    const CodePoints offs(text);
+    Utf8Stream input(text, offs);
     SdvLexer lexer(&input);
     lexer.removeErrorListeners();
     std::string out;

@@ -4,7 +4,8 @@
 // `sdv replay` does with the first recorded vehicle: its route over the network, the replay
 // scenario's text, and that text compiled. Properties: a reader gives a result or errors, never
 // both missing; every read track has states in increasing time with finite values; the text
-// generated for a track that has a route compiles without errors.
+// generated for a track that has a route compiles without errors, and nothing of the recording adds
+// statements to it (one scenario, one map, the recording's lights, one expectation, std/ imports only).
 #include <unistd.h>
 
 #include <cmath>
@@ -69,6 +70,20 @@ void replay_first(realism::Recording& rec, const road::RoadNetwork& net) {
             for (const auto& d : diags.sorted())
                 if (d.severity == diag::Severity::error && first.empty()) first = d.code + " " + d.message;
             fuzz::fail(kTarget, "the replay of track " + t.id + " does not compile: " + first);
+        }
+        // Nothing of the recording adds statements: the text declares the one scenario, with the
+        // recording's lights and one expectation, over the one map, importing only std/.
+        const ir::Program& p = *c.program;
+        for (size_t f = 1; f < p.files.size(); ++f) {
+            if (p.files[f].rfind("std/", 0) != 0) fuzz::fail(kTarget, "the replay imports " + p.files[f]);
+        }
+        for (const auto& tree : p.trees) {
+            if (tree.name.rfind("std.", 0) != 0) fuzz::fail(kTarget, "the replay declares a tree " + tree.name);
+        }
+        if (p.scenarios.size() != 1 || p.roads.size() != 1 || p.scenarios[0].expect_roots.size() != 1 ||
+            p.scenarios[0].lights.size() != rec.lights.size()) {
+            fuzz::fail(kTarget, "the replay of track " + t.id + " has " + std::to_string(p.scenarios.size()) +
+                                    " scenarios, " + std::to_string(p.roads.size()) + " roads, or other expectations or lights");
         }
         return;
     }
