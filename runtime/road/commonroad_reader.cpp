@@ -14,9 +14,11 @@ namespace sdv::road {
 namespace {
 
 // The same limits as the Lanelet2 reader: coordinates within 1,000 km of the origin, lanelets
-// at most 50 km long (sampled every 0.5 m), so that reading stays linear in the file's size.
+// at most 50 km long (sampled every 0.5 m) and 100 km of lanes in all, so that reading stays
+// linear in the file's size.
 constexpr double kMaxCoordinate = 1e6;
 constexpr double kMaxLaneletLength = 50e3;
+constexpr double kMaxTotalLength = 100e3;
 
 using Lines = XmlLines;
 constexpr auto number = parse_number;
@@ -134,6 +136,7 @@ LoadResult parse_commonroad(const std::string& xml) {
     // Lanelets (2020a may wrap them in <laneletNetwork>? No: both formats put them at the root).
     std::vector<LaneletEntry> entries;
     std::map<std::string, size_t> by_id;
+    double total_length = 0;
     for (auto e : root.children("lanelet")) {
         const std::string id = e.attribute("id").as_string();
         const std::string where = "lanelet " + (id.empty() ? std::string("(no id)") : id);
@@ -161,6 +164,12 @@ LoadResult parse_commonroad(const std::string& xml) {
         if (length < 1e-3) {
             rd.error(e, where, "its bounds have no length");
             continue;
+        }
+        total_length += length;
+        if (total_length > kMaxTotalLength) {
+            rd.error(e, where, "the map's lanes are more than 100 km long together; sdv reads maps of up to 100 km of "
+                               "lanes (cut the map to the scenario's area)");
+            return r;
         }
         auto between = centre_between(*left, *right);
         Lane lane;

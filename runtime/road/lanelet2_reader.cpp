@@ -16,9 +16,12 @@ namespace sdv::road {
 namespace {
 
 // Limits that keep the work of reading a map proportional to its size: coordinates within
-// 1,000 km of the origin, lanelets (sampled every 0.5 m) at most 50 km long.
+// 1,000 km of the origin, lanelets (sampled every 0.5 m) at most 50 km long, and at most 100 km of
+// lanes in all (each lane's reference line is sampled every 0.25 m; without a total, a few KB of
+// long lanelets made seconds of work).
 constexpr double kMaxCoordinate = 1e6;
 constexpr double kMaxLaneletLength = 50e3;
+constexpr double kMaxTotalLength = 100e3;
 
 using Id = long long;
 
@@ -637,6 +640,7 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
             {a.id, true, a.right.invert(), a.left.invert(), kNoLane, a.regs, a.stop_ways});
     }
     r.both_ways = static_cast<int>(both_ways.size());
+    double total_length = 0;
     for (LL& a : lls) {
         const Relation& rel = rels[a.id];
         const std::string where = "lanelet " + std::to_string(a.id);
@@ -649,6 +653,13 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
             r.errors.push_back(where + ": a bound is " + std::to_string(static_cast<long long>(bound_length / 1000)) +
                                " km long; sdv reads lanelets up to 50 km (split it)");
             return r;  // the lanelets after it are not built: the map is refused
+        }
+        total_length += bound_length;
+        if (total_length > kMaxTotalLength) {
+            r.errors.push_back(where + ": the map's lanes are more than 100 km long together; sdv reads maps of up to "
+                               "100 km of lanes (a lanelet drivable both ways counts twice; cut the map to the "
+                               "scenario's area)");
+            return r;
         }
         auto between = centre_between(lp, rp);
         Lane lane;

@@ -5,7 +5,10 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <random>
+#include <sstream>
 
+#include "runtime/road/commonroad_reader.h"
 #include "runtime/road/lanelet2_reader.h"
 #include "runtime/road/routing.h"
 
@@ -129,4 +132,71 @@ TEST_CASE("malformed maps give errors naming the element") {
     CHECK(!parse_lanelet2("<osm><node").errors.empty());
     CHECK(!parse_lanelet2("").errors.empty());
     CHECK(load_lanelet2("/no/such/map.osm").errors[0] == "cannot read map file '/no/such/map.osm'");
+}
+
+TEST_CASE("a map loads when its lanes total at most 100 km, and is refused with a located error above") {
+    // Stacked straight lanelets of random lengths (each within the 50 km of one lanelet), in
+    // Lanelet2 (local_x/local_y) and CommonRoad: the same verdict from both readers, and an
+    // error naming the lanelet at which the total passes 100 km.
+    std::mt19937 rng(16);
+    std::uniform_real_distribution<double> km(0.5, 12.0);
+    std::uniform_int_distribution<int> count(2, 24);
+    int loaded = 0, refused = 0;
+    for (int round = 0; round < 40; ++round) {
+        const int n = count(rng);
+        std::vector<double> lengths;
+        for (int i = 0; i < n; ++i) lengths.push_back(1000 * km(rng));
+        std::ostringstream ll2, cr;
+        ll2 << "<osm>";
+        cr << "<commonRoad>";
+        double total = 0;
+        int over = -1;
+        for (int i = 0; i < n; ++i) {
+            const int b = 10 * i;
+            auto node = [&](int id, double x, double y) {
+                ll2 << "<node id='" << id << "' lat='0' lon='0'><tag k='local_x' v='" << x
+                    << "'/><tag k='local_y' v='" << y << "'/></node>";
+            };
+            node(b + 1, 0, 3.5 * i);
+            node(b + 2, lengths[static_cast<size_t>(i)], 3.5 * i);
+            node(b + 3, 0, 3.5 * i + 3.5);
+            node(b + 4, lengths[static_cast<size_t>(i)], 3.5 * i + 3.5);
+            ll2 << "<way id='" << b + 5 << "'><nd ref='" << b + 1 << "'/><nd ref='" << b + 2 << "'/></way>"
+                << "<way id='" << b + 6 << "'><nd ref='" << b + 3 << "'/><nd ref='" << b + 4 << "'/></way>"
+                << "<relation id='" << b + 7 << "'><member type='way' ref='" << b + 6
+                << "' role='left'/><member type='way' ref='" << b + 5
+                << "' role='right'/><tag k='type' v='lanelet'/><tag k='subtype' v='road'/></relation>";
+            auto point = [&](double x, double y) { cr << "<point><x>" << x << "</x><y>" << y << "</y></point>"; };
+            cr << "<lanelet id='" << b + 7 << "'><leftBound>";
+            point(0, 3.5 * i + 3.5);
+            point(lengths[static_cast<size_t>(i)], 3.5 * i + 3.5);
+            cr << "</leftBound><rightBound>";
+            point(0, 3.5 * i);
+            point(lengths[static_cast<size_t>(i)], 3.5 * i);
+            cr << "</rightBound></lanelet>";
+            total += lengths[static_cast<size_t>(i)];
+            if (over < 0 && total > 100e3) over = b + 7;
+        }
+        ll2 << "</osm>";
+        cr << "</commonRoad>";
+        CAPTURE(total);
+        const auto a = parse_lanelet2(ll2.str());
+        const auto c = parse_commonroad(cr.str());
+        if (over < 0) {
+            CHECK(a.errors.empty());
+            CHECK(c.errors.empty());
+            REQUIRE(a.network);
+            CHECK(a.network->lanes().size() == static_cast<size_t>(n));
+            ++loaded;
+        } else {
+            REQUIRE(a.errors.size() == 1);
+            CHECK(a.errors[0].rfind("lanelet " + std::to_string(over) + ": the map's lanes are more than 100 km", 0) == 0);
+            REQUIRE(!c.errors.empty());
+            CHECK(c.errors[0].find("lanelet " + std::to_string(over) + ": the map's lanes are more than 100 km") !=
+                  std::string::npos);
+            ++refused;
+        }
+    }
+    CHECK(loaded > 5);
+    CHECK(refused > 5);
 }
