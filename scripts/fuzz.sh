@@ -31,7 +31,7 @@ declare -A max_len=([sdv_frontend]=262144 [ir_reader]=262144 [btree]=262144 [gss
 # The executions of a CI run (--ci), seeds included: about 20 s each under ASan+UBSan on one
 # core of the development machine (docs/reliability.md has each target's exec/s).
 declare -A ci_runs=([sdv_frontend]=2500 [ir_reader]=15000 [btree]=8000 [gss_scenario]=9000
-                    [lanelet2]=7000 [cosim_frame]=1500 [sweep_results]=15000 [recording]=3000)
+                    [lanelet2]=7000 [cosim_frame]=3000 [sweep_results]=15000 [recording]=3000)
 
 usage() {
     sed -n '4,8p' "$0" >&2
