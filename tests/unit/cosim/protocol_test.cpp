@@ -133,8 +133,8 @@ TEST_CASE("protocol: binary and JSON sessions give the same observations, bit fo
 }
 
 TEST_CASE("protocol: sessions sharing a road cache give the same observations, bit for bit") {
-    // The first session with the cache builds the road, the second copies it; a third builds
-    // its own. All three must be the same run.
+    // The first session builds its own road, the second fills the cache, the third copies the
+    // road from it. All three must be the same run.
     const auto roads = std::make_shared<sim::RoadCache>();
     std::vector<std::unique_ptr<Session>> sessions;
     for (const bool shared : {false, true, true}) {
