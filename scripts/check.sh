@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Install, build and run every test: the CI build (warnings as errors), the fuzz stage (every
 # libFuzzer target over its seeds plus a fixed number of new inputs), then the same tests under
-# AddressSanitizer + UndefinedBehaviorSanitizer. The last line is CTest's summary.
+# AddressSanitizer + UndefinedBehaviorSanitizer (clang, in the fuzz stage's build; the gcc
+# sanitizer build is the asan preset). The last line is CTest's summary.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh --tests
@@ -12,15 +13,17 @@ jobs="$(nproc)"
 cmake --preset ci >/dev/null
 cmake --build --preset ci -j "$jobs"
 ctest --preset ci -j "$jobs"
-# Fuzz stage (tests/fuzz/README.md): every libFuzzer target (clang, ASan+UBSan) over its seed
-# corpus plus a fixed number of new inputs, two targets at a time; a crash, a leak, undefined
-# behaviour, an input over 1 s or 2 GB fails CI. Count bounded, never time bounded: the same
-# inputs on every run. Each target's log is in build/fuzz/ci-logs/.
+# The sanitizer build (the fuzz preset: clang, ASan+UBSan, libFuzzer's coverage in every
+# library) builds the libFuzzer targets and every test once, for both stages below.
+cmake --preset fuzz >/dev/null
+cmake --build --preset fuzz -j "$jobs" >build/fuzz-build.log 2>&1 ||
+    { tail -40 build/fuzz-build.log; echo "building the sanitizer build (fuzz preset) failed"; exit 1; }
+# Fuzz stage (tests/fuzz/README.md): every libFuzzer target over its seed corpus plus a fixed
+# number of new inputs, two targets at a time; a crash, a leak, undefined behaviour, an input
+# over 1 s or 2 GB fails CI. Count bounded, never time bounded: the same inputs on every run.
+# Each target's log is in build/fuzz/ci-logs/.
 if [ "${SDV_SKIP_FUZZ:-0}" != 1 ]; then
     fuzz_start=$SECONDS
-    cmake --preset fuzz >/dev/null
-    cmake --build --preset fuzz --target fuzz_targets -j "$jobs" >build/fuzz-build.log 2>&1 ||
-        { tail -40 build/fuzz-build.log; echo "fuzz stage: building the fuzz targets failed"; exit 1; }
     scripts/fuzz-corpus.sh build/ci build/fuzz/corpus-ci >/dev/null
     rm -rf build/fuzz/ci-logs && mkdir -p build/fuzz/ci-logs
     fuzz_targets=(sdv_frontend ir_reader btree gss_scenario lanelet2 cosim_frame sweep_results recording)
@@ -35,8 +38,7 @@ if [ "${SDV_SKIP_FUZZ:-0}" != 1 ]; then
         exit 1
     fi
 fi
+# Every test again under ASan+UBSan, in the same build.
 if [ "${SDV_SKIP_ASAN:-0}" != 1 ]; then
-    cmake --preset asan >/dev/null
-    cmake --build --preset asan -j "$jobs"
-    ctest --preset asan -j "$jobs"
+    ctest --preset fuzz -j "$jobs"
 fi
