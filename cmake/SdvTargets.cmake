@@ -40,7 +40,9 @@ endfunction()
 # sdv_foreign_host_test(test...): tests whose host program is not ours (python3 loading
 # libsdv.so through ctypes). In a sanitizer build the library needs the sanitizer runtimes loaded
 # first, which only the environment can do for a foreign executable; leak checking is off there
-# (the interpreter's own allocations live until exit).
+# (the interpreter's own allocations live until exit). A test script that also runs `sdv` must
+# pass LD_PRELOAD on to the Python host alone (`host` in tests/cli/cosim_equivalence.sh): clang's
+# executables link their own runtime and refuse a second one.
 function(sdv_foreign_host_test)
     if(NOT SDV_SANITIZERS)
         return()

@@ -7,6 +7,10 @@
 # Usage: cosim_doc_examples.sh SDV LIBSDV REPO_ROOT
 set -u
 sdv=$1 lib=$2 root=$3
+# A sanitizer build's test environment preloads the sanitizer runtimes for a Python host of
+# libsdv.so (sdv_foreign_host_test); sdv links its own, so only that host may get them.
+host=(env ${LD_PRELOAD:+"LD_PRELOAD=$LD_PRELOAD"} ${ASAN_OPTIONS:+"ASAN_OPTIONS=$ASAN_OPTIONS"})
+unset LD_PRELOAD ASAN_OPTIONS
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 python3 - "$root/docs/cosim.md" "$tmp" "$root/examples/cosim/c_client.c" <<'PY' || exit 1
@@ -34,16 +38,16 @@ for f in "$tmp"/example_*.py; do
         "$sdv" run "$root/tests/cli/data/cosim_highway.sdv" --cosim tcp://127.0.0.1:0 --cosim-port-file "$work/port" \
             --cosim-encoding json --cosim-step-timeout 30 -o "$work/out" > "$work/sdv.log" 2>&1 &
         server=$!
-        (cd "$work" && python3 "$f") > "$work/client.log" 2>&1
+        (cd "$work" && timeout 300 python3 "$f") > "$work/client.log" 2>&1
     elif grep -q '/tmp/sdv.sock' "$f"; then
         sed -i "s|/tmp/sdv.sock|$work/sdv.sock|" "$f"
         protoc -I "$root/runtime/cosim" --python_out="$work" "$root/runtime/cosim/sdv_cosim.proto"
         "$sdv" run "$root/tests/cli/data/cosim_highway.sdv" --cosim "unix:$work/sdv.sock" --cosim-step-timeout 30 \
             -o "$work/out" > "$work/sdv.log" 2>&1 &
         server=$!
-        (cd "$work" && "$py_binary" "$f") > "$work/client.log" 2>&1
+        (cd "$work" && timeout 300 "$py_binary" "$f") > "$work/client.log" 2>&1
     elif grep -q '^import sdv' "$f"; then
-        (cd "$root" && SDV_LIBRARY=$lib python3 "$f") > "$work/client.log" 2>&1
+        (cd "$root" && SDV_LIBRARY=$lib timeout 300 "${host[@]}" python3 "$f") > "$work/client.log" 2>&1
     else
         echo "FAIL: $name: no known way to run it"
         fail=1

@@ -8,6 +8,10 @@
 # Usage: cosim_equivalence.sh SDV LIBSDV REPO_ROOT
 set -u
 sdv=$1 lib=$2 root=$3
+# A sanitizer build's test environment preloads the sanitizer runtimes for a Python host of
+# libsdv.so (sdv_foreign_host_test); sdv links its own, so only that host may get them.
+host=(env ${LD_PRELOAD:+"LD_PRELOAD=$LD_PRELOAD"} ${ASAN_OPTIONS:+"ASAN_OPTIONS=$ASAN_OPTIONS"})
+unset LD_PRELOAD ASAN_OPTIONS
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 scenario=$root/examples/cosim/cut_in.sdv
@@ -34,7 +38,7 @@ finish() {  # finish NAME: waits for sdv, which must exit 0
 py_binary=/usr/bin/python3
 "$py_binary" -c 'import google.protobuf' 2>/dev/null || py_binary=python3
 
-SDV_LIBRARY=$lib python3 "$client" --in-process "$scenario" -o "$tmp/inproc" || { echo "FAIL: in process"; fail=1; }
+SDV_LIBRARY=$lib "${host[@]}" python3 "$client" --in-process "$scenario" -o "$tmp/inproc" || { echo "FAIL: in process"; fail=1; }
 
 serve tcpbin tcp://127.0.0.1:0 binary --cosim-record "$tmp/session.cosim"
 "$py_binary" "$client" --port-file "$tmp/tcpbin.port" --encoding binary || { echo "FAIL: TCP binary client"; fail=1; }

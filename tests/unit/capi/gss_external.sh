@@ -6,6 +6,10 @@
 # Usage: gss_external.sh SDV LIBSDV DATA_DIR
 set -eu
 sdv=$1 lib=$2 data=$3
+# A sanitizer build's test environment preloads the sanitizer runtimes for a Python host of
+# libsdv.so (sdv_foreign_host_test); sdv links its own, so only that host may get them.
+host=(env ${LD_PRELOAD:+"LD_PRELOAD=$LD_PRELOAD"} ${ASAN_OPTIONS:+"ASAN_OPTIONS=$ASAN_OPTIONS"})
+unset LD_PRELOAD ASAN_OPTIONS
 root=$(cd "$(dirname "$0")/../../.." && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -15,7 +19,7 @@ sed "0,/<tag k='btype' v='SDV' \/>/s//<tag k='btype' v='EV' \/>/" \
 "$sdv" convert "$tmp/ext.gs.osm" --btree-path "$data/btrees/sdv" --map-dir "$data" -o "$tmp/ext.sdv" > /dev/null
 grep -q '^    vehicle v2: external {$' "$tmp/ext.sdv" || { echo "FAIL: v2 is not external:"; cat "$tmp/ext.sdv"; exit 1; }
 "$sdv" lint "$tmp/ext.sdv"
-SDV_LIBRARY=$lib PYTHONPATH=$root/python python3 - "$tmp/ext.sdv" "$tmp/out" <<'PY'
+SDV_LIBRARY=$lib PYTHONPATH=$root/python "${host[@]}" python3 - "$tmp/ext.sdv" "$tmp/out" <<'PY'
 import math, sys
 import sdv
 with sdv.Simulation(sys.argv[1], output_dir=sys.argv[2]) as sim:

@@ -222,7 +222,8 @@ TEST_CASE("btconfig and subtree overrides reconfigure the nodes the reference's 
         std::vector<Leaf> expected = expand(trees, 0, {});
         bool refused = false;
         for (const auto& [name, c] : btconfig) {
-            auto it = std::find_if(expected.begin(), expected.end(), [&](const Leaf& l) { return l.name == name; });
+            const std::string& wanted = name;  // clang 14 cannot capture a structured binding
+            auto it = std::find_if(expected.begin(), expected.end(), [&](const Leaf& l) { return l.name == wanted; });
             if (it == expected.end() || it->condition) {
                 refused = true;  // no maneuver node of that name: E0908
             } else {

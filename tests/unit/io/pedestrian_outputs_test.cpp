@@ -85,7 +85,8 @@ TEST_CASE("road.json lists a built-in road's crosswalks with their light, in roa
     // Across the road at 150 m (the road runs along x): the centre at x = 150 from kerb to kerb,
     // the bounds half the width to either side, parallel to it.
     for (const auto& [c, at, w] : {std::tuple{cws[0], 150.0, 4.0}, std::tuple{cws[1], 60.0, 3.0}}) {
-        CAPTURE(c["name"].get<std::string>());
+        const std::string name = c["name"].get<std::string>();  // clang 14 cannot capture a binding
+        CAPTURE(name);
         const auto& centre = c["centre"];
         REQUIRE(centre.size() >= 2);
         for (const auto& p : centre) CHECK(x_of(p) == doctest::Approx(at));

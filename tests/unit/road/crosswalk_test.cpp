@@ -105,7 +105,9 @@ TEST_CASE("road crosswalks cross every lane once, on the crosswalk, with stop li
     };
     const std::vector<std::pair<int, int>> lane_counts = {{1, 0}, {0, 1}, {1, 1}, {2, 1}, {3, 3}};
     for (const auto& shape : shapes) {
-        for (const auto& [fwd, bwd] : lane_counts) {
+        for (const auto& counts : lane_counts) {
+            const int fwd = counts.first;  // not a structured binding: clang 14 cannot capture one
+            const int bwd = counts.second;
             for (const bool signalised : {false, true}) {
                 RoadSpec spec = road(shape, fwd, bwd);
                 double length = 0;
