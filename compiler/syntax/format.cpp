@@ -96,7 +96,10 @@ bool binds_right(const std::string& t) { return t == "(" || t == "[" || t == "."
 }  // namespace
 
 std::optional<std::string> format(diag::FileId file, const diag::SourceManager& sm, diag::DiagnosticEngine& diags) {
-    if (parse(file, sm, diags) == nullptr) return std::nullopt;  // reports why
+    // One parse of the whole token stream, comments included, after the checks that bound the
+    // parser's stack: SLL prediction, then full LL, each stopping at the first syntax error
+    // (ANTLR's two stages). A file that does not parse goes through parse() for its diagnostics.
+    if (!precheck(file, sm, diags)) return std::nullopt;  // reports why
     const std::string_view text = sm.contents(file);
     antlr4::ANTLRInputStream input(text.data(), text.size());
     SdvLexer lexer(&input);
@@ -105,7 +108,25 @@ std::optional<std::string> format(diag::FileId file, const diag::SourceManager& 
     stream.fill();
     SdvParser parser(&stream);
     parser.removeErrorListeners();
-    SdvParser::FileContext* tree = parser.file();
+    parser.setErrorHandler(std::make_shared<antlr4::BailErrorStrategy>());
+    auto* interpreter = parser.getInterpreter<antlr4::atn::ParserATNSimulator>();
+    SdvParser::FileContext* tree = nullptr;
+    for (const auto mode : {antlr4::atn::PredictionMode::SLL, antlr4::atn::PredictionMode::LL}) {
+        interpreter->setPredictionMode(mode);
+        try {
+            tree = parser.file();
+            break;
+        } catch (const antlr4::ParseCancellationException&) {
+            parser.reset();  // back to the first token
+        }
+    }
+    if (tree == nullptr) {
+        if (parse(file, sm, diags) != nullptr) {
+            // Not expected: parse() accepts what full LL rejects. Say so rather than format.
+            diags.error("E0003", {{file, 0}, {file, 0}}, "the formatter could not parse this file");
+        }
+        return std::nullopt;
+    }
     std::set<size_t> starts, items;
     mark(tree, starts, items);
     Spacing spacing;

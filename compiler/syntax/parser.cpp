@@ -1024,110 +1024,151 @@ bool starts_item(size_t type) {
            type == SdvLexer::MAP || type == SdvLexer::TREE || type == SdvLexer::SCENARIO;
 }
 
+// A lexeme's source range, in bytes.
+diag::SourceRange range_of(diag::FileId file, const CodePoints& offs, const Lexeme& t) {
+    const size_t b = std::min<size_t>(t.start, offs.size() - 1);
+    const size_t e = std::min<size_t>(t.stop + size_t{1}, offs.size() - 1);
+    return {{file, offs[b]}, {file, offs[std::max(b, e)]}};
+}
+
+// A lexeme's text: the text is valid UTF-8, so its bytes are what ANTLR would decode them to.
+std::string spelling(std::string_view text, const CodePoints& offs, const Lexeme& t) {
+    return std::string(text.substr(offs[t.start], offs[t.stop + 1] - offs[t.start]));
+}
+
+// E0001 at the first byte of `text` that is not UTF-8; false then.
+bool check_utf8(diag::FileId file, std::string_view text, diag::DiagnosticEngine& diags) {
+    const size_t bad = find_invalid_utf8(text);
+    if (bad == std::string_view::npos) return true;
+    const auto off = static_cast<uint32_t>(bad);
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "0x%02X", static_cast<unsigned char>(text[bad]));
+    diags.error("E0001", {{file, off}, {file, off + 1}},
+                std::string("file is not valid UTF-8 text (byte ") + hex + ")")
+        .notes.push_back({{}, ".sdv files are UTF-8 text; is this a binary file?"});
+    return false;
+}
+
+// What the pre-parse pass leaves for the parser: the lexemes it keeps, where chunks end, and how
+// many trees the file declares at least.
+struct Prepared {
+    std::vector<Lexeme> lexemes;
+    std::vector<size_t> chunk_ends;
+    size_t trees = 0;
+};
+
+// The pre-parse pass: reports stray characters and unterminated strings once each, drops them
+// from the stream, and refuses pathological nesting before the recursive parser sees it. It
+// also marks where chunks may start: at an item keyword after a closing brace at depth 0, once
+// the chunk has kChunkTokens tokens. False when the file cannot be parsed (reported).
+bool prepare(diag::FileId file, std::string_view text, const CodePoints& offs, std::vector<Lexeme> lexemes,
+             Prepared& out, diag::DiagnosticEngine& diags) {
+    size_t kept = 0;
+    std::vector<size_t>& chunk_ends = out.chunk_ends;
+    int depth = 0;
+    int decorators = 0;
+    int operators = 0;  // `and` / `or` since the last `expect`: each one nests the expression
+    bool lexical_errors = false;
+    bool after_close = false;
+    for (size_t i = 0; i < lexemes.size(); ++i) {
+        const Lexeme t = lexemes[i];
+        if (t.type == SdvLexer::ERROR_CHAR) {
+            size_t j = i;
+            while (j + 1 < lexemes.size() && lexemes[j + 1].type == SdvLexer::ERROR_CHAR &&
+                   lexemes[j + 1].start == lexemes[j].stop + 1) {
+                ++j;
+            }
+            diag::SourceRange r{range_of(file, offs, t).begin, range_of(file, offs, lexemes[j]).end};
+            diags.error("E0001", r, "unexpected character '" + spelling(text, offs, t) + "'");
+            lexical_errors = true;
+            if (diags.limit_reached()) return false;
+            i = j;
+            continue;
+        }
+        if (t.type == SdvLexer::UNTERMINATED_STRING) {
+            diags.error("E0002", range_of(file, offs, t), "unterminated string")
+                .notes.push_back({{}, "add the closing '\"' on the same line"});
+            lexical_errors = true;
+            continue;
+        }
+        if (depth == 0 && after_close && starts_item(t.type) &&
+            kept - (chunk_ends.empty() ? 0 : chunk_ends.back()) >= kChunkTokens) {
+            chunk_ends.push_back(kept);
+        }
+        if (depth == 0 && t.type == SdvLexer::TREE) ++out.trees;
+        // Brackets are one character; the first byte of a longer code point is not ASCII.
+        const char bracket = t.stop == t.start ? text[offs[t.start]] : '\0';
+        if (bracket == '{' || bracket == '(' || bracket == '[') ++depth;
+        if (bracket == '}' || bracket == ')' || bracket == ']') depth = std::max(0, depth - 1);
+        after_close = bracket == '}';
+        const bool decorator = t.type == SdvLexer::NOT || t.type == SdvLexer::ONCE ||
+                               t.type == SdvLexer::LATCH;
+        decorators = decorator ? decorators + 1 : 0;
+        if (depth + decorators > kMaxNesting) {
+            diags.error("E0004", range_of(file, offs, t),
+                        "nesting is too deep (more than " + std::to_string(kMaxNesting) + " levels)")
+                .notes.push_back({{}, "split the tree into named subtrees"});
+            return false;
+        }
+        if (t.type == SdvLexer::EXPECT || bracket == '}') operators = 0;
+        if ((t.type == SdvLexer::AND || t.type == SdvLexer::OR) && ++operators > kMaxOperators) {
+            diags.error("E0004", range_of(file, offs, t),
+                        "expression is too long (more than " + std::to_string(kMaxOperators) +
+                            " 'and' / 'or')")
+                .notes.push_back({{}, "write it as several expect statements: they must all hold"});
+            return false;
+        }
+        lexemes[kept++] = t;
+    }
+    if (lexical_errors) return false;
+    if (kept == 0) {
+        diags.error("E0008", {{file, 0}, {file, 0}}, "the file declares nothing")
+            .notes.push_back({{}, "a .sdv file holds imports, roads, trees and scenarios"});
+        return false;
+    }
+    lexemes.resize(kept);
+    lexemes.shrink_to_fit();  // they stay until the last chunk, next to the whole AST
+    chunk_ends.push_back(kept);
+    out.lexemes = std::move(lexemes);
+    return true;
+}
+
 }  // namespace
+
+bool precheck(diag::FileId file, const diag::SourceManager& sm, diag::DiagnosticEngine& diags) {
+    const std::string_view text = sm.contents(file);
+    if (!check_utf8(file, text, diags)) return false;
+    try {
+        const CodePoints offs(text);
+        Utf8Stream input(text, offs);
+        LexemeLexer lexer(&input);
+        lexer.removeErrorListeners();
+        lexer.lex_all();
+        Prepared prepared;
+        return prepare(file, text, offs, std::move(lexer.lexemes), prepared, diags);
+    } catch (const std::exception& e) {
+        diags.error("E0003", {{file, 0}, {file, 0}},
+                    std::string("the parser failed on this file: ") + e.what());
+        return false;
+    }
+}
 
 std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& sm,
                                  diag::DiagnosticEngine& diags) {
     const std::string_view text = sm.contents(file);
-    if (size_t bad = find_invalid_utf8(text); bad != std::string_view::npos) {
-        const auto off = static_cast<uint32_t>(bad);
-        char hex[8];
-        std::snprintf(hex, sizeof hex, "0x%02X", static_cast<unsigned char>(text[bad]));
-        diags.error("E0001", {{file, off}, {file, off + 1}},
-                    std::string("file is not valid UTF-8 text (byte ") + hex + ")")
-            .notes.push_back({{}, ".sdv files are UTF-8 text; is this a binary file?"});
-        return nullptr;
-    }
+    if (!check_utf8(file, text, diags)) return nullptr;
     const CodePoints offs(text);
-    auto range_of = [&](const Lexeme& t) -> diag::SourceRange {
-        const size_t b = std::min<size_t>(t.start, offs.size() - 1);
-        const size_t e = std::min<size_t>(t.stop + size_t{1}, offs.size() - 1);
-        return {{file, offs[b]}, {file, offs[std::max(b, e)]}};
-    };
-    // The text is valid UTF-8, so a token's bytes are what ANTLR would decode them to.
-    auto spelling = [&](const Lexeme& t) {
-        return std::string(text.substr(offs[t.start], offs[t.stop + 1] - offs[t.start]));
-    };
 
     try {
         Utf8Stream input(text, offs);
         LexemeLexer lexer(&input);
         lexer.removeErrorListeners();
         const size_t eof = lexer.lex_all();
-        std::vector<Lexeme> lexemes = std::move(lexer.lexemes);
-
-        // Pre-parse pass: report stray characters and unterminated strings once each, drop
-        // them from the stream, and refuse pathological nesting before the recursive parser
-        // sees it. It also marks where chunks may start: at an item keyword after a closing
-        // brace at depth 0, once the chunk has kChunkTokens tokens.
-        size_t kept = 0;
-        std::vector<size_t> chunk_ends;
-        int depth = 0;
-        int decorators = 0;
-        int operators = 0;  // `and` / `or` since the last `expect`: each one nests the expression
-        bool lexical_errors = false;
-        bool after_close = false;
-        size_t trees = 0;  // at least the trees declared: File::trees is reserved, not doubled
-        for (size_t i = 0; i < lexemes.size(); ++i) {
-            const Lexeme t = lexemes[i];
-            if (t.type == SdvLexer::ERROR_CHAR) {
-                size_t j = i;
-                while (j + 1 < lexemes.size() && lexemes[j + 1].type == SdvLexer::ERROR_CHAR &&
-                       lexemes[j + 1].start == lexemes[j].stop + 1) {
-                    ++j;
-                }
-                diag::SourceRange r{range_of(t).begin, range_of(lexemes[j]).end};
-                diags.error("E0001", r, "unexpected character '" + spelling(t) + "'");
-                lexical_errors = true;
-                if (diags.limit_reached()) return nullptr;
-                i = j;
-                continue;
-            }
-            if (t.type == SdvLexer::UNTERMINATED_STRING) {
-                diags.error("E0002", range_of(t), "unterminated string")
-                    .notes.push_back({{}, "add the closing '\"' on the same line"});
-                lexical_errors = true;
-                continue;
-            }
-            if (depth == 0 && after_close && starts_item(t.type) &&
-                kept - (chunk_ends.empty() ? 0 : chunk_ends.back()) >= kChunkTokens) {
-                chunk_ends.push_back(kept);
-            }
-            if (depth == 0 && t.type == SdvLexer::TREE) ++trees;
-            // Brackets are one character; the first byte of a longer code point is not ASCII.
-            const char bracket = t.stop == t.start ? text[offs[t.start]] : '\0';
-            if (bracket == '{' || bracket == '(' || bracket == '[') ++depth;
-            if (bracket == '}' || bracket == ')' || bracket == ']') depth = std::max(0, depth - 1);
-            after_close = bracket == '}';
-            const bool decorator = t.type == SdvLexer::NOT || t.type == SdvLexer::ONCE ||
-                                   t.type == SdvLexer::LATCH;
-            decorators = decorator ? decorators + 1 : 0;
-            if (depth + decorators > kMaxNesting) {
-                diags.error("E0004", range_of(t),
-                            "nesting is too deep (more than " + std::to_string(kMaxNesting) +
-                                " levels)")
-                    .notes.push_back({{}, "split the tree into named subtrees"});
-                return nullptr;
-            }
-            if (t.type == SdvLexer::EXPECT || bracket == '}') operators = 0;
-            if ((t.type == SdvLexer::AND || t.type == SdvLexer::OR) && ++operators > kMaxOperators) {
-                diags.error("E0004", range_of(t),
-                            "expression is too long (more than " + std::to_string(kMaxOperators) +
-                                " 'and' / 'or')")
-                    .notes.push_back({{}, "write it as several expect statements: they must all hold"});
-                return nullptr;
-            }
-            lexemes[kept++] = t;
-        }
-        if (lexical_errors) return nullptr;
-        if (kept == 0) {
-            diags.error("E0008", {{file, 0}, {file, 0}}, "the file declares nothing")
-                .notes.push_back({{}, "a .sdv file holds imports, roads, trees and scenarios"});
-            return nullptr;
-        }
-        lexemes.resize(kept);
-        lexemes.shrink_to_fit();  // they stay until the last chunk, next to the whole AST
-        chunk_ends.push_back(kept);
+        Prepared prepared;
+        if (!prepare(file, text, offs, std::move(lexer.lexemes), prepared, diags)) return nullptr;
+        const std::vector<Lexeme>& lexemes = prepared.lexemes;
+        const std::vector<size_t>& chunk_ends = prepared.chunk_ends;
+        const size_t kept = lexemes.size();
 
         // The ANTLR tokens of lexemes [begin, end) and an end of file. Their text is set from
         // the source, so reading it (the unit predicate, the builder) is a copy. Their line and
@@ -1140,7 +1181,7 @@ std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& s
                 const Lexeme& l = lexemes[i];
                 auto t = std::make_unique<antlr4::CommonToken>(
                     origin, l.type, Token::DEFAULT_CHANNEL, l.start, l.stop);
-                t->setText(spelling(l));
+                t->setText(spelling(text, offs, l));
                 out.push_back(std::move(t));
             }
             out.push_back(std::make_unique<antlr4::CommonToken>(
@@ -1150,7 +1191,7 @@ std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& s
 
         auto ast = std::make_unique<ast::File>();
         ast->file = file;
-        ast->trees.reserve(trees);
+        ast->trees.reserve(prepared.trees);
         std::vector<diag::Diagnostic> pending;
         Builder builder(file, offs, pending);
         SdvParser parser(nullptr);

@@ -24,6 +24,12 @@ inline constexpr int kMaxSyntaxErrors = 20;
 std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& sm,
                                  diag::DiagnosticEngine& diags);
 
+// The checks parse() makes before it parses (encoding, stray characters, unterminated strings,
+// nesting depth, expression length, a file declaring nothing), reported as parse() reports
+// them; false when one fails. A file that passes them cannot exhaust a parser's stack: for the
+// formatter, which parses the whole token stream itself.
+bool precheck(diag::FileId file, const diag::SourceManager& sm, diag::DiagnosticEngine& diags);
+
 // One line per token, `line:col KIND 'text'`, for `sdv compile --emit tokens`.
 std::string dump_tokens(diag::FileId file, const diag::SourceManager& sm);
 
