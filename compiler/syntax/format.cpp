@@ -8,7 +8,6 @@
 #include <SdvParser.h>
 #include <antlr4-runtime.h>
 
-#include <set>
 #include <vector>
 
 #include "compiler/syntax/parser.h"
@@ -20,13 +19,61 @@ using antlr4::Token;
 using sdv_antlr::SdvLexer;
 using sdv_antlr::SdvParser;
 
-// Collects the start tokens of statements and of top-level items.
-void mark(antlr4::tree::ParseTree* t, std::set<size_t>& starts, std::set<size_t>& items) {
-    auto* ctx = dynamic_cast<antlr4::ParserRuleContext*>(t);
-    if (ctx == nullptr) return;
-    // Rule indexes, not dynamic casts: this runs on every node of the parse tree.
+// Tells a parse tree's rule contexts from its terminals by ANTLR's double dispatch (accept)
+// instead of dynamic_cast: under libFuzzer every dynamic_cast into these hierarchies compares
+// type names with an intercepted strcmp, and marking was a sixth of the fuzz target's time.
+class NodeKind final : public antlr4::tree::AbstractParseTreeVisitor {
+public:
+    // A node as one of the two: a rule context, or a terminal (a token or an error node).
+    struct Node {
+        antlr4::ParserRuleContext* rule = nullptr;
+        antlr4::tree::TerminalNode* leaf = nullptr;
+    };
+    Node of(antlr4::tree::ParseTree* t) {
+        node_ = {};
+        t->accept(this);
+        return node_;
+    }
+
+    antlrcpp::Any visitChildren(antlr4::tree::ParseTree* node) override {
+        // Only RuleContext::accept comes here, and every rule context of a parser's tree is a
+        // ParserRuleContext.
+        node_.rule = static_cast<antlr4::ParserRuleContext*>(node);
+        return {};
+    }
+    antlrcpp::Any visitTerminal(antlr4::tree::TerminalNode* node) override {
+        node_.leaf = node;
+        return {};
+    }
+    antlrcpp::Any visitErrorNode(antlr4::tree::ErrorNode* node) override {
+        node_.leaf = node;
+        return {};
+    }
+
+private:
+    Node node_;
+};
+
+// What the parse tree says about each token, by token index: whether it starts a statement (it
+// begins a new line) or a top-level item (blank lines between items), and the tokens spaced by
+// the tree rather than by their text: arithmetic operators (`20 - 5`, `100 / 4`: never a sign or
+// a unit's slash), signs of names and groups (`-(2 * i) m`), and the brackets of a repeated agent
+// (`v[1..50]`).
+struct Marks {
+    explicit Marks(size_t tokens)
+        : start(tokens), item(tokens), binary(tokens), glue_right(tokens), glue_left(tokens), group_open(tokens) {}
+    std::vector<char> start, item, binary, glue_right, glue_left, group_open;
+
+    static bool has(const std::vector<char>& set, size_t idx) { return idx < set.size() && set[idx] != 0; }
+    static void add(std::vector<char>& set, size_t idx) {
+        if (idx < set.size()) set[idx] = 1;
+    }
+};
+
+void mark(antlr4::ParserRuleContext* ctx, Marks& marks, NodeKind& kind) {
+    const size_t rule = ctx->getRuleIndex();
     bool statement = false;
-    switch (ctx->getRuleIndex()) {
+    switch (rule) {
         case SdvParser::RuleItem:
         case SdvParser::RuleRoadStmt:
         case SdvParser::RuleJunctionStmt:
@@ -37,53 +84,55 @@ void mark(antlr4::tree::ParseTree* t, std::set<size_t>& starts, std::set<size_t>
         case SdvParser::RuleVaryStmt:
         case SdvParser::RuleWaypoint:
         case SdvParser::RulePathPoint: statement = true; break;
-        case SdvParser::RuleNode:
-            statement = !dynamic_cast<SdvParser::DecoratorNodeContext*>(ctx->parent);
+        case SdvParser::RuleNode: {
+            // Not the node a decorator applies to (`not maneuver ...` stays on one line): the
+            // decorator alternative of nodeBody is the one that starts with a decorator.
+            auto* parent = ctx->parent != nullptr ? kind.of(ctx->parent).rule : nullptr;
+            auto* first = parent != nullptr && parent->getRuleIndex() == SdvParser::RuleNodeBody && !parent->children.empty()
+                              ? kind.of(parent->children[0]).rule
+                              : nullptr;
+            statement = first == nullptr || first->getRuleIndex() != SdvParser::RuleDecorator;
             break;
+        }
         default: break;
     }
-    if (statement && ctx->getStart() != nullptr) starts.insert(ctx->getStart()->getTokenIndex());
-    if (ctx->getRuleIndex() == SdvParser::RuleItem && ctx->getStart() != nullptr) items.insert(ctx->getStart()->getTokenIndex());
-    for (auto* child : ctx->children) mark(child, starts, items);
-}
-
-// Tokens spaced by the parse tree rather than by their text: arithmetic operators (`20 - 5`,
-// `100 / 4`: never a sign or a unit's slash), signs of names and groups (`-(2 * i) m`), and the
-// brackets of a repeated agent (`v[1..50]`).
-struct Spacing {
-    std::set<size_t> binary, glue_right, glue_left, group_open;
-};
-void mark_spacing(antlr4::tree::ParseTree* t, Spacing& sp) {
-    auto* ctx = dynamic_cast<antlr4::ParserRuleContext*>(t);
-    if (ctx == nullptr) return;
-    const size_t rule = ctx->getRuleIndex();
+    if (ctx->getStart() != nullptr) {
+        const size_t first = ctx->getStart()->getTokenIndex();
+        if (statement) Marks::add(marks.start, first);
+        if (rule == SdvParser::RuleItem) Marks::add(marks.item, first);
+    }
     const bool arith = rule == SdvParser::RulePrimary;
     const bool repeat = rule == SdvParser::RuleRepeat;
+    const bool group = rule == SdvParser::RuleGroup;
     for (auto* child : ctx->children) {
-        auto* leaf = dynamic_cast<antlr4::tree::TerminalNode*>(child);
-        if (leaf == nullptr) {
-            mark_spacing(child, sp);
+        const NodeKind::Node node = kind.of(child);
+        if (node.rule != nullptr) {
+            mark(node.rule, marks, kind);
             continue;
         }
-        const size_t idx = leaf->getSymbol()->getTokenIndex();
-        const std::string text = leaf->getText();
-        if (arith && leaf->getSymbol()->getType() != SdvLexer::STRING) sp.binary.insert(idx);
-        if (repeat && (text == "[" || text == "..")) {
-            sp.glue_left.insert(idx);
-            sp.glue_right.insert(idx);
+        auto* leaf = node.leaf;
+        if (leaf == nullptr) continue;
+        const Token* token = leaf->getSymbol();
+        const size_t idx = token->getTokenIndex();
+        const size_t type = token->getType();
+        if (arith && type != SdvLexer::STRING) Marks::add(marks.binary, idx);
+        if (repeat || group) {
+            const std::string text = leaf->getText();  // '[' and '(' have no token name
+            if (repeat && (text == "[" || type == SdvLexer::DOTDOT)) {
+                Marks::add(marks.glue_left, idx);
+                Marks::add(marks.glue_right, idx);
+            }
+            if (group && text == "(") Marks::add(marks.group_open, idx);
         }
     }
     if (rule == SdvParser::RuleFactor) {
-        if (auto* n = dynamic_cast<SdvParser::NameFactorContext*>(ctx); n != nullptr && n->sign != nullptr) {
-            sp.glue_right.insert(n->sign->getTokenIndex());
+        // `-x`: the sign of a name factor; a quantity's sign is part of its number's spelling.
+        if (ctx->children.size() == 2) {
+            if (auto* sign = kind.of(ctx->children[0]).leaf) Marks::add(marks.glue_right, sign->getSymbol()->getTokenIndex());
         }
-    } else if (rule == SdvParser::RuleGroup) {
+    } else if (group) {
         auto* g = static_cast<SdvParser::GroupContext*>(ctx);
-        if (g->sign != nullptr) sp.glue_right.insert(g->sign->getTokenIndex());
-        for (auto* child : g->children) {
-            auto* leaf = dynamic_cast<antlr4::tree::TerminalNode*>(child);
-            if (leaf != nullptr && leaf->getText() == "(") sp.group_open.insert(leaf->getSymbol()->getTokenIndex());
-        }
+        if (g->sign != nullptr) Marks::add(marks.glue_right, g->sign->getTokenIndex());
     }
 }
 
@@ -127,10 +176,9 @@ std::optional<std::string> format(diag::FileId file, const diag::SourceManager& 
         }
         return std::nullopt;
     }
-    std::set<size_t> starts, items;
-    mark(tree, starts, items);
-    Spacing spacing;
-    mark_spacing(tree, spacing);
+    Marks marks(stream.getTokens().size());
+    NodeKind kind;
+    mark(tree, marks, kind);
     size_t prev_idx = SIZE_MAX;
 
     std::string out;
@@ -171,7 +219,7 @@ std::optional<std::string> format(diag::FileId file, const diag::SourceManager& 
                 // A comment block documenting the next declaration takes the blank line before it.
                 size_t next = i + 1;
                 while (next < all.size() && all[next]->getChannel() != Token::DEFAULT_CHANNEL) ++next;
-                if (!last_comment && next < all.size() && items.count(all[next]->getTokenIndex()) && !first_item &&
+                if (!last_comment && next < all.size() && Marks::has(marks.item, all[next]->getTokenIndex()) && !first_item &&
                     !(all[next]->getType() == SdvLexer::IMPORT && prev_item_import) && out.size() >= 2 &&
                     out.substr(out.size() - 2) != "\n\n") {
                     out += "\n";
@@ -201,9 +249,9 @@ std::optional<std::string> format(diag::FileId file, const diag::SourceManager& 
         if (tx == "}") {
             --depth;
             if (!line_empty) newline();
-        } else if (starts.count(idx)) {
+        } else if (Marks::has(marks.start, idx)) {
             if (!line_empty) newline();
-            if (items.count(idx)) {
+            if (Marks::has(marks.item, idx)) {
                 // A blank line between declarations; consecutive imports stay together.
                 const bool import = t->getType() == SdvLexer::IMPORT;
                 if (!first_item && !last_comment && !(import && prev_item_import) && out.size() >= 2 &&
@@ -247,15 +295,15 @@ std::optional<std::string> format(diag::FileId file, const diag::SourceManager& 
         if (line_empty) {
             indent();
         } else {
-            const bool call = tx == "(" && !spacing.group_open.count(idx) && (prev_type == SdvLexer::ID || (!prev.empty() && std::isalpha(static_cast<unsigned char>(prev[0])) &&
+            const bool call = tx == "(" && !Marks::has(marks.group_open, idx) && (prev_type == SdvLexer::ID || (!prev.empty() && std::isalpha(static_cast<unsigned char>(prev[0])) &&
                                                                           prev_type != SdvLexer::AT && prev_type != SdvLexer::ORIGIN));
             const bool sign = (prev == "-" || prev == "+") && (prev_type != SdvLexer::PLUSMINUS);
-            const bool unary = sign && !spacing.binary.count(prev_idx) &&
+            const bool unary = sign && !Marks::has(marks.binary, prev_idx) &&
                                (t->getType() == SdvLexer::INT || t->getType() == SdvLexer::FLOAT);
-            if (spacing.binary.count(idx) || spacing.binary.count(prev_idx)) {
+            if (Marks::has(marks.binary, idx) || Marks::has(marks.binary, prev_idx)) {
                 out += " ";
-            } else if (!(binds_left(tx) || binds_right(prev) || call || unary || spacing.glue_left.count(idx) ||
-                         spacing.glue_right.count(prev_idx))) {
+            } else if (!(binds_left(tx) || binds_right(prev) || call || unary || Marks::has(marks.glue_left, idx) ||
+                         Marks::has(marks.glue_right, prev_idx))) {
                 out += " ";
             }
         }
