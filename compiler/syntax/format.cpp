@@ -126,7 +126,7 @@ void mark(antlr4::ParserRuleContext* ctx, Marks& marks, NodeKind& kind) {
         }
     }
     if (rule == SdvParser::RuleFactor) {
-        // `-x`: the sign of a name factor; a quantity's sign is part of its number's spelling.
+        // `-x`: the sign of a name factor (a quantity's sign is spaced as a unary sign below).
         if (ctx->children.size() == 2) {
             if (auto* sign = kind.of(ctx->children[0]).leaf) Marks::add(marks.glue_right, sign->getSymbol()->getTokenIndex());
         }
