@@ -13,9 +13,11 @@ int samples_for(double bound_length) {
 
 std::vector<Vec2> resample(const std::vector<Vec2>& p, int n) {
     std::vector<double> acc = {0};
+    acc.reserve(p.size());
     for (size_t i = 1; i < p.size(); ++i)
         acc.push_back(acc.back() + distance(p[i - 1], p[i]));
     std::vector<Vec2> out;
+    out.reserve(static_cast<size_t>(n));
     size_t j = 0;
     for (int i = 0; i < n; ++i) {
         const double t = acc.back() * i / (n - 1);
@@ -31,6 +33,7 @@ BoundedCentre centre_between(const std::vector<Vec2>& left, const std::vector<Ve
     const int n = samples_for(std::max(polyline_length(left), polyline_length(right)));
     const auto ls = resample(left, n), rs = resample(right, n);
     BoundedCentre out;
+    out.centre.reserve(static_cast<size_t>(n));
     for (int i = 0; i < n; ++i) out.centre.push_back(0.5 * (ls[static_cast<size_t>(i)] + rs[static_cast<size_t>(i)]));
     out.width = distance(ls[static_cast<size_t>(n / 2)], rs[static_cast<size_t>(n / 2)]);
     return out;

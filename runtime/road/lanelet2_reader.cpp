@@ -18,7 +18,7 @@ namespace {
 // Limits that keep the work of reading a map proportional to its size: coordinates within
 // 1,000 km of the origin, lanelets (sampled every 0.5 m) at most 50 km long, and at most 100 km of
 // lanes in all (each lane's reference line is sampled every 0.25 m; without a total, a few KB of
-// long lanelets made seconds of work).
+// long lanelets made seconds of work), and as much of crosswalks and walkways.
 constexpr double kMaxCoordinate = 1e6;
 constexpr double kMaxLaneletLength = 50e3;
 constexpr double kMaxTotalLength = 100e3;
@@ -248,10 +248,23 @@ struct Strip {
     double width = 0;
 };
 
-std::optional<Strip> strip_between(const std::vector<Vec2>& a, std::vector<Vec2> b) {
+// The length of the pedestrian areas read so far (each sampled every 0.5 m): at most
+// kMaxTotalLength, as for lanes, so that a few KB of areas sharing long ways is no
+// second of work.
+struct AreaBudget {
+    double used = 0;
+    bool exceeded = false;
+};
+
+std::optional<Strip> strip_between(const std::vector<Vec2>& a, std::vector<Vec2> b, AreaBudget& budget) {
     if (a.size() < 2 || b.size() < 2) return std::nullopt;
     const double la = polyline_length(a), lb = polyline_length(b);
     if (la < 1e-3 || lb < 1e-3 || std::max(la, lb) > kMaxLaneletLength) return std::nullopt;
+    budget.used += std::max(la, lb);
+    if (budget.used > kMaxTotalLength) {
+        budget.exceeded = true;
+        return std::nullopt;
+    }
     if (distance(a.front(), b.front()) + distance(a.back(), b.back()) >
         distance(a.front(), b.back()) + distance(a.back(), b.front()))
         std::reverse(b.begin(), b.end());
@@ -302,7 +315,7 @@ std::optional<std::vector<Id>> simple_ring(const Relation& rel, const std::map<I
 
 // An area as a strip: its outline split at the two points farthest apart along its principal
 // axis, the two halves taken as bounds (an approximation for areas far from strip-shaped).
-std::optional<Strip> area_strip(const std::vector<Vec2>& ring) {
+std::optional<Strip> area_strip(const std::vector<Vec2>& ring, AreaBudget& budget) {
     Vec2 mean{};
     for (const auto& p : ring) mean = mean + (1.0 / static_cast<double>(ring.size())) * p;
     double sxx = 0, syy = 0, sxy = 0;
@@ -329,7 +342,7 @@ std::optional<Strip> area_strip(const std::vector<Vec2>& ring) {
         b.push_back(ring[i]);
         if (i == hi) break;
     }
-    return strip_between(a, b);
+    return strip_between(a, b, budget);
 }
 
 const std::set<std::string> kRoles = {"refers", "ref_line", "light_bulbs", "right_of_way",
@@ -347,7 +360,7 @@ std::vector<Vec2> way_points(const Way& w, const std::map<Id, Vec2>& nodes) {
 // as written (nullopt, with a warning, when the bounds give none; missing bounds are already
 // errors).
 std::optional<Strip> lanelet_strip(Id id, const Relation& rel, const std::map<Id, Way>& ways,
-                                   const std::map<Id, Vec2>& nodes, std::vector<std::string>& warnings) {
+                                   const std::map<Id, Vec2>& nodes, AreaBudget& budget, std::vector<std::string>& warnings) {
     const Way* bound[2] = {nullptr, nullptr};
     for (const auto& m : rel.members) {
         auto w = ways.find(m.ref);
@@ -355,8 +368,8 @@ std::optional<Strip> lanelet_strip(Id id, const Relation& rel, const std::map<Id
             bound[m.role == "left" ? 0 : 1] = &w->second;
     }
     if (!bound[0] || !bound[1]) return std::nullopt;
-    auto st = strip_between(way_points(*bound[0], nodes), way_points(*bound[1], nodes));
-    if (!st) warnings.push_back("lanelet " + std::to_string(id) + ": " + rel.tags.at("subtype") +
+    auto st = strip_between(way_points(*bound[0], nodes), way_points(*bound[1], nodes), budget);
+    if (!st && !budget.exceeded) warnings.push_back("lanelet " + std::to_string(id) + ": " + rel.tags.at("subtype") +
                                 " with degenerate bounds; ignored");
     return st;
 }
@@ -375,7 +388,8 @@ int32_t crosswalk_light(const Relation& rel, const std::map<Id, int32_t>& light_
 void add_pedestrian_areas(const std::map<Id, Vec2>& nodes, const std::map<Id, Way>& ways,
                           const std::map<Id, Relation>& rels, const std::vector<Id>& rel_order,
                           const std::map<Id, int32_t>& light_index, RoadNetwork& net,
-                          std::vector<std::string>& warnings) {
+                          std::vector<std::string>& errors, std::vector<std::string>& warnings) {
+    AreaBudget budget;
     for (Id id : rel_order) {
         const Relation& rel = rels.at(id);
         auto tag = [&](const char* k) {
@@ -384,7 +398,7 @@ void add_pedestrian_areas(const std::map<Id, Vec2>& nodes, const std::map<Id, Wa
         };
         const std::string type = tag("type"), subtype = tag("subtype");
         if (type == "lanelet" && subtype == "crosswalk") {
-            if (auto st = lanelet_strip(id, rel, ways, nodes, warnings)) {
+            if (auto st = lanelet_strip(id, rel, ways, nodes, budget, warnings)) {
                 Crosswalk cw;
                 cw.name = std::to_string(id);
                 cw.centre = std::move(st->centre);
@@ -397,17 +411,22 @@ void add_pedestrian_areas(const std::map<Id, Vec2>& nodes, const std::map<Id, Wa
         } else if (subtype == "walkway" && (type == "lanelet" || type == "multipolygon")) {
             std::optional<Strip> st;
             if (type == "lanelet") {
-                st = lanelet_strip(id, rel, ways, nodes, warnings);
+                st = lanelet_strip(id, rel, ways, nodes, budget, warnings);
             } else if (auto ring = simple_ring(rel, ways)) {
                 std::vector<Vec2> pts;
                 for (Id n : *ring) pts.push_back(nodes.at(n));
-                st = area_strip(pts);
-                if (!st) warnings.push_back("multipolygon " + std::to_string(id) + ": degenerate walkway area; ignored");
+                st = area_strip(pts, budget);
+                if (!st && !budget.exceeded) warnings.push_back("multipolygon " + std::to_string(id) + ": degenerate walkway area; ignored");
             } else {
                 warnings.push_back("multipolygon " + std::to_string(id) +
                                    ": walkway area is not one closed outline of outer ways; ignored");
             }
             if (st) net.walkways.push_back({std::to_string(id), std::move(st->centre), std::move(st->left), std::move(st->right), st->width});
+        }
+        if (budget.exceeded) {
+            errors.push_back(type + " " + std::to_string(id) + ": the map's crosswalks and walkways are more than 100 km "
+                             "long together; sdv reads maps of up to 100 km of them (cut the map to the scenario's area)");
+            return;
         }
     }
 }
@@ -864,8 +883,8 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
         net.rights_of_way.push_back(std::move(row));
     }
     mark_junctions(net);
-    add_pedestrian_areas(nodes, ways, rels, rel_order, light_index, net, r.warnings);
-    find_crossings(net);
+    add_pedestrian_areas(nodes, ways, rels, rel_order, light_index, net, r.errors, r.warnings);
+    if (r.errors.empty()) find_crossings(net);
     if (r.drivable == 0 && r.errors.empty()) r.errors.push_back("the map has no drivable lanelet");
     if (r.errors.empty()) r.network = std::move(net);
     return r;

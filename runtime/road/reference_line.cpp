@@ -12,21 +12,21 @@ std::vector<double> spline_m(const std::vector<double>& t, const std::vector<dou
     const size_t n = t.size();
     std::vector<double> m(n, 0.0);
     if (n < 3) return m;
-    std::vector<double> a(n), b(n), c(n), r(n);
+    // The tridiagonal system's sub- and super-diagonals are the knot spacings: h(i) below, h(i + 1) above.
+    auto h = [&](size_t i) { return t[i] - t[i - 1]; };
+    std::vector<double> b(n), r(n);
     for (size_t i = 1; i + 1 < n; ++i) {
-        const double h0 = t[i] - t[i - 1], h1 = t[i + 1] - t[i];
-        a[i] = h0;
+        const double h0 = h(i), h1 = h(i + 1);
         b[i] = 2 * (h0 + h1);
-        c[i] = h1;
         r[i] = 6 * ((y[i + 1] - y[i]) / h1 - (y[i] - y[i - 1]) / h0);
     }
     for (size_t i = 2; i + 1 < n; ++i) {
-        const double w = a[i] / b[i - 1];
-        b[i] -= w * c[i - 1];
+        const double w = h(i) / b[i - 1];
+        b[i] -= w * h(i);
         r[i] -= w * r[i - 1];
     }
     for (size_t i = n - 2; i >= 1; --i) {
-        m[i] = (r[i] - c[i] * m[i + 1]) / b[i];
+        m[i] = (r[i] - h(i + 1) * m[i + 1]) / b[i];
         if (i == 1) break;
     }
     return m;
@@ -34,10 +34,11 @@ std::vector<double> spline_m(const std::vector<double>& t, const std::vector<dou
 
 struct Spline1 {
     std::vector<double> t, y, m;
-    // value, first and second derivative at u
-    void eval(double u, double& v, double& d1, double& d2) const {
-        size_t i = static_cast<size_t>(std::upper_bound(t.begin(), t.end(), u) - t.begin());
-        i = std::clamp<size_t>(i, 1, t.size() - 1) - 1;
+    // Value, first and second derivative at u. `below` counts the knots t <= u: the caller
+    // keeps it between calls at increasing u, so that sampling the whole spline is linear.
+    void eval(double u, size_t& below, double& v, double& d1, double& d2) const {
+        while (below < t.size() && t[below] <= u) ++below;
+        const size_t i = std::clamp<size_t>(below, 1, t.size() - 1) - 1;
         const double h = t[i + 1] - t[i];
         const double A = (t[i + 1] - u) / h, B = (u - t[i]) / h;
         v = A * y[i] + B * y[i + 1] + ((A * A * A - A) * m[i] + (B * B * B - B) * m[i + 1]) * h * h / 6;
@@ -67,6 +68,10 @@ std::optional<ReferenceLine> ReferenceLine::build(std::span<const Vec2> points, 
     }
     if (pts.size() < 2) return fail("fewer than two distinct points");
     Spline1 sx, sy;
+    for (Spline1* sp : {&sx, &sy}) {
+        sp->t.reserve(pts.size());
+        sp->y.reserve(pts.size());
+    }
     double u = 0;
     for (size_t i = 0; i < pts.size(); ++i) {
         if (i > 0) u += distance(pts[i - 1], pts[i]);
@@ -80,14 +85,16 @@ std::optional<ReferenceLine> ReferenceLine::build(std::span<const Vec2> points, 
     sy.m = spline_m(sy.t, sy.y);
     ReferenceLine line;
     const size_t n = std::max<size_t>(2, static_cast<size_t>(std::ceil(u / spacing)) + 1);
+    for (auto* v : {&line.s_, &line.x_, &line.y_, &line.theta_, &line.kappa_}) v->reserve(n);
     double s = 0;
     double prev_theta = 0;
     Vec2 prev{};
+    size_t below_x = 0, below_y = 0;
     for (size_t i = 0; i < n; ++i) {
         const double ui = u * static_cast<double>(i) / static_cast<double>(n - 1);
         double x, dx, ddx, y, dy, ddy;
-        sx.eval(ui, x, dx, ddx);
-        sy.eval(ui, y, dy, ddy);
+        sx.eval(ui, below_x, x, dx, ddx);
+        sy.eval(ui, below_y, y, dy, ddy);
         if (i > 0) s += distance(prev, {x, y});
         prev = {x, y};
         const double speed2 = dx * dx + dy * dy;

@@ -200,3 +200,61 @@ TEST_CASE("a map loads when its lanes total at most 100 km, and is refused with 
     CHECK(loaded > 5);
     CHECK(refused > 5);
 }
+
+TEST_CASE("a map's crosswalks and walkways total at most 100 km, and the map is refused with a located error above") {
+    // One short road and crosswalk and walkway lanelets of random lengths, some sharing the ways of
+    // the one before (areas cost what their bounds measure, not what the file weighs: fuzz
+    // finding 17 read 40 km crosswalks that shared two ways, 100 of them in 18 KB).
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> km(0.5, 12.0);
+    std::uniform_int_distribution<int> count(2, 24);
+    int loaded = 0, refused = 0;
+    for (int round = 0; round < 30; ++round) {
+        const int n = count(rng);
+        std::ostringstream ll2;
+        ll2 << "<osm>";
+        auto node = [&](int id, double x, double y) {
+            ll2 << "<node id='" << id << "' lat='0' lon='0'><tag k='local_x' v='" << x << "'/><tag k='local_y' v='" << y
+                << "'/></node>";
+        };
+        auto lanelet = [&](int id, int left, int right, const char* subtype) {
+            ll2 << "<relation id='" << id << "'><member type='way' ref='" << left << "' role='left'/><member type='way' ref='"
+                << right << "' role='right'/><tag k='type' v='lanelet'/><tag k='subtype' v='" << subtype << "'/></relation>";
+        };
+        auto way = [&](int id, int a, int b) { ll2 << "<way id='" << id << "'><nd ref='" << a << "'/><nd ref='" << b << "'/></way>"; };
+        node(1, 0, 0), node(2, 50, 0), node(3, 0, 3.5), node(4, 50, 3.5);
+        way(5, 1, 2), way(6, 3, 4);
+        lanelet(7, 6, 5, "road");
+        double total = 0, length = 0;
+        int over = -1, left = 0, right = 0;
+        for (int i = 0; i < n; ++i) {
+            const int b = 100 + 10 * i;
+            if (i == 0 || rng() % 3 != 0) {  // new ways across the road, else the previous area's again
+                length = 1000 * km(rng);
+                node(b + 1, 20 + 3 * i, -length / 2), node(b + 2, 20 + 3 * i, length / 2);
+                node(b + 3, 22 + 3 * i, -length / 2), node(b + 4, 22 + 3 * i, length / 2);
+                way(b + 5, b + 1, b + 2), way(b + 6, b + 3, b + 4);
+                left = b + 5, right = b + 6;
+            }
+            lanelet(b + 7, left, right, rng() % 2 ? "crosswalk" : "walkway");
+            total += length;
+            if (over < 0 && total > 100e3) over = b + 7;
+        }
+        ll2 << "</osm>";
+        CAPTURE(total);
+        const auto a = parse_lanelet2(ll2.str());
+        if (over < 0) {
+            CHECK(a.errors.empty());
+            REQUIRE(a.network);
+            CHECK(a.network->crosswalks.size() + a.network->walkways.size() == static_cast<size_t>(n));
+            ++loaded;
+        } else {
+            REQUIRE(a.errors.size() == 1);
+            CHECK(a.errors[0].rfind("lanelet " + std::to_string(over) + ": the map's crosswalks and walkways are more than 100 km", 0) == 0);
+            CHECK(!a.network);
+            ++refused;
+        }
+    }
+    CHECK(loaded > 5);
+    CHECK(refused > 5);
+}
