@@ -6,8 +6,6 @@
 // lanes of a plain road are in none.
 #include <doctest/doctest.h>
 
-#include <cmath>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -107,50 +105,4 @@ TEST_CASE("on the real maps, approaches are never in a junction and what they le
         for (LaneId s : l.successors) CHECK(r.network->lane(s).in_junction);
     }
     CHECK(aws == 4);
-}
-
-// mark_junctions tests only the segments that share a cell of a grid (fuzz finding 14): on
-// random lanes with no relations between them, it must mark exactly the lanes that testing
-// every pair of segments finds crossing another.
-TEST_CASE("mark_junctions marks exactly the lanes that testing every pair of segments finds") {
-    std::mt19937_64 rng(14);
-    std::uniform_real_distribution<double> u(0, 1);
-    auto crosses = [](Vec2 a0, Vec2 a1, Vec2 b0, Vec2 b1) {
-        const Vec2 r = a1 - a0, s = b1 - b0;
-        const double den = cross(r, s);
-        if (den == 0) return false;
-        const double t = cross(b0 - a0, s) / den, v = cross(b0 - a0, r) / den;
-        return t >= 0 && t <= 1 && v >= 0 && v <= 1;
-    };
-    for (int round = 0; round < 60; ++round) {
-        CAPTURE(round);
-        RoadNetwork net;
-        const size_t lanes = 2 + rng() % 8;
-        for (size_t i = 0; i < lanes; ++i) {
-            Lane l;
-            l.name = "l" + std::to_string(i);
-            // A walk of short steps (sampled lanes) and some long ones, turning at most 40°.
-            l.centre = {{200 * u(rng), 200 * u(rng)}};
-            double heading = 2 * M_PI * u(rng);
-            for (size_t k = 1 + rng() % 150; k > 0; --k) {
-                heading += (u(rng) - 0.5) * 1.4;
-                const double step = u(rng) < 0.8 ? 0.2 + 0.5 * u(rng) : 5 + 60 * u(rng);
-                l.centre.push_back(l.centre.back() + step * Vec2{std::cos(heading), std::sin(heading)});
-            }
-            net.add_lane(l);
-        }
-        mark_junctions(net);
-        const auto& all = net.lanes();
-        for (size_t i = 0; i < all.size(); ++i) {
-            bool want = false;
-            for (size_t j = 0; j < all.size() && !want; ++j) {
-                if (i == j) continue;
-                const auto& a = all[i].centre;
-                const auto& b = all[j].centre;
-                for (size_t p = 0; p + 1 < a.size() && !want; ++p)
-                    for (size_t q = 0; q + 1 < b.size() && !want; ++q) want = crosses(a[p], a[p + 1], b[q], b[q + 1]);
-            }
-            CHECK_MESSAGE(all[i].in_junction == want, all[i].name);
-        }
-    }
 }
