@@ -303,8 +303,11 @@ LoadResult parse_commonroad(const std::string& xml) {
             }
         }
     }
-    mark_junctions(net);
-    find_crossings(net);
+    if (auto crowded = crowded_place(net); crowded && r.errors.empty()) r.errors.push_back(*crowded);
+    if (r.errors.empty()) {
+        mark_junctions(net);
+        find_crossings(net);
+    }
     if (entries.empty() && r.errors.empty()) r.errors.push_back("the file has no lanelet");
     if (r.errors.empty()) r.network = std::move(net);
     return r;

@@ -882,9 +882,14 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
         for (LaneId l : row.priority) net.lane_mut(l).right_of_way = index;
         net.rights_of_way.push_back(std::move(row));
     }
-    mark_junctions(net);
     add_pedestrian_areas(nodes, ways, rels, rel_order, light_index, net, r.errors, r.warnings);
-    if (r.errors.empty()) find_crossings(net);
+    if (r.errors.empty()) {
+        if (auto crowded = crowded_place(net)) r.errors.push_back(*crowded);
+    }
+    if (r.errors.empty()) {
+        mark_junctions(net);
+        find_crossings(net);
+    }
     if (r.drivable == 0 && r.errors.empty()) r.errors.push_back("the map has no drivable lanelet");
     if (r.errors.empty()) r.network = std::move(net);
     return r;

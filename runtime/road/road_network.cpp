@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <unordered_map>
 #include <cmath>
+#include <cstdio>
 #include <optional>
+#include <string>
 #include <tuple>
 #include <utility>
 
@@ -195,6 +197,12 @@ RoadNetwork::Location RoadNetwork::locate(Vec2 p, std::optional<double> heading)
 namespace sdv::road {
 namespace {
 
+// The most lanes and crosswalks that may pass through one cell of the segment grid (a 2 m square
+// for sampled lanes): the real maps of ../shared/data have up to 6 (ll2_mapping_example.osm), and
+// the grid's work grows with the square of it (fuzz finding 18: 500 lanelets stacked on two
+// ways, 83 KB, took 21 s under ASan; at 32, lanes stacked 32 deep along 3 km took 1.4 s).
+constexpr size_t kMaxLinesAtOnePlace = 16;
+
 // Half the strip along a lane is never counted longer than this: a crosswalk almost parallel
 // to a lane would otherwise cover the whole lane.
 constexpr double kMaxHalfExtent = 10.0;
@@ -212,16 +220,25 @@ std::optional<std::pair<double, double>> meet(Vec2 p0, Vec2 p1, Vec2 q0, Vec2 q1
     return std::pair{std::clamp(t, 0.0, 1.0), u};
 }
 
-// A segment of a polyline: its owner's index and the index of its first point.
+// A segment of a polyline: its owner's index, the index of its first point, and the lowest cell
+// of its box (two segments share cells from the larger of their lowest cells on: that one cell
+// is where they are tested, once).
 struct Seg {
     uint32_t line;
     uint32_t k;
+    int32_t cx0, cy0;
+    bool first_shared_cell(const Seg& o, uint64_t key) const {
+        return key == key_of(std::max(cx0, o.cx0), std::max(cy0, o.cy0));
+    }
+    static uint64_t key_of(int64_t cx, int64_t cy) {
+        return (static_cast<uint64_t>(static_cast<uint32_t>(cx)) << 32) | static_cast<uint32_t>(cy);
+    }
 };
 
 // The segments of polylines in a uniform grid of square cells no smaller than the longest
 // segment, so that each segment, its box widened by the meeting test's slack, lies in at most
 // 2 x 2 cells: the grid is linear in the points, and two segments that meet share the cell of
-// their meeting point. Testing every segment against every other took 22 s for a 6.6 KB map
+// their meeting point. A pair is tested in the first cell the two share only. Testing every segment against every other took 22 s for a 6.6 KB map
 // (fuzz finding 14, junctions) and 47 s under ASan for an 898-byte one (finding 17, crossings).
 class SegmentGrid {
 public:
@@ -236,17 +253,28 @@ public:
     }
 
     void add(const std::vector<Vec2>& pts, uint32_t line) {
-        for (size_t k = 0; k + 1 < pts.size(); ++k)
-            for_cells(pts[k], pts[k + 1], [&](uint64_t c) { cells_[c].push_back({line, static_cast<uint32_t>(k)}); });
+        for (size_t k = 0; k + 1 < pts.size(); ++k) {
+            Seg seg{line, static_cast<uint32_t>(k), 0, 0};
+            bool lowest = true;
+            for_cells(pts[k], pts[k + 1], [&](int64_t cx, int64_t cy) {
+                if (lowest) seg.cx0 = static_cast<int32_t>(cx), seg.cy0 = static_cast<int32_t>(cy), lowest = false;
+                cells_[Seg::key_of(cx, cy)].push_back(seg);
+            });
+        }
     }
 
-    // Every segment sharing a cell with p→q (a segment in two such cells is given twice).
+    // Every segment sharing a cell with p→q, once: in the first cell they share.
     template <class F>
     void near(Vec2 p, Vec2 q, F&& f) const {
-        for_cells(p, q, [&](uint64_t c) {
-            auto it = cells_.find(c);
+        Seg query{0, 0, 0, 0};
+        bool lowest = true;
+        for_cells(p, q, [&](int64_t cx, int64_t cy) {
+            if (lowest) query.cx0 = static_cast<int32_t>(cx), query.cy0 = static_cast<int32_t>(cy), lowest = false;
+            const uint64_t key = Seg::key_of(cx, cy);
+            auto it = cells_.find(key);
             if (it == cells_.end()) return;
-            for (const Seg& s : it->second) f(s);
+            for (const Seg& s : it->second)
+                if (s.first_shared_cell(query, key)) f(s);
         });
     }
 
@@ -262,8 +290,7 @@ private:
         const auto y0 = static_cast<int64_t>(std::floor((std::min(p.y, q.y) - widen) / cell_));
         const auto y1 = static_cast<int64_t>(std::floor((std::max(p.y, q.y) + widen) / cell_));
         for (int64_t cx = x0; cx <= x1; ++cx)
-            for (int64_t cy = y0; cy <= y1; ++cy)
-                f((static_cast<uint64_t>(static_cast<uint32_t>(cx)) << 32) | static_cast<uint32_t>(cy));
+            for (int64_t cy = y0; cy <= y1; ++cy) f(cx, cy);
     }
 
     double cell_;
@@ -303,6 +330,37 @@ std::vector<Hit> hits(const Crosswalk& cw, const Lane& lane, const std::vector<s
 
 }  // namespace
 
+std::optional<std::string> crowded_place(const RoadNetwork& net) {
+    const auto& lanes = net.lanes();
+    double longest = 0;
+    for (const auto& l : lanes) longest = std::max(longest, SegmentGrid::longest_segment(l.centre));
+    for (const auto& c : net.crosswalks) longest = std::max(longest, SegmentGrid::longest_segment(c.centre));
+    const double cell = SegmentGrid::cell_for(longest);
+    SegmentGrid grid(cell);
+    for (const auto& l : lanes) grid.add(l.centre, static_cast<uint32_t>(l.id));
+    for (size_t i = 0; i < net.crosswalks.size(); ++i) grid.add(net.crosswalks[i].centre, static_cast<uint32_t>(lanes.size() + i));
+    // The crowded cell of smallest key, so that the message does not depend on the hash order.
+    std::optional<uint64_t> worst;
+    for (const auto& [key, segs] : grid.cells()) {
+        size_t lines = 0;  // a line's segments are contiguous in a cell (added line by line)
+        for (size_t u = 0; u < segs.size(); ++u) lines += u == 0 || segs[u].line != segs[u - 1].line;
+        if (lines > kMaxLinesAtOnePlace && (!worst || key < *worst)) worst = key;
+    }
+    if (!worst) return std::nullopt;
+    const auto& first = grid.cells().at(*worst).front();
+    const std::string name = first.line < lanes.size() ? "lanelet " + lanes[first.line].name
+                                                       : "crosswalk " + net.crosswalks[first.line - lanes.size()].name;
+    auto corner = [&](uint32_t c) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.0f", static_cast<double>(static_cast<int32_t>(c)) * cell);
+        return std::string(buf);
+    };
+    return name + ": more than " + std::to_string(kMaxLinesAtOnePlace) + " lanes and crosswalks pass through the " +
+           corner(1) + " m square at (" + corner(static_cast<uint32_t>(*worst >> 32)) + ", " +
+           corner(static_cast<uint32_t>(*worst)) + "); sdv reads maps of at most " + std::to_string(kMaxLinesAtOnePlace) +
+           " at one place (are lanelets stacked on each other?)";
+}
+
 void find_crossings(RoadNetwork& net) {
     const auto& lanes = net.lanes();
     double longest = 0;
@@ -314,7 +372,6 @@ void find_crossings(RoadNetwork& net) {
     struct Pair {
         uint32_t lane, li, k;  // a lane, its segment li and the crosswalk's segment k
         bool operator<(const Pair& o) const { return std::tie(lane, li, k) < std::tie(o.lane, o.li, o.k); }
-        bool operator==(const Pair& o) const { return lane == o.lane && li == o.li && k == o.k; }
     };
     std::vector<Pair> pairs;
     std::vector<std::pair<uint32_t, uint32_t>> of_lane;
@@ -323,13 +380,11 @@ void find_crossings(RoadNetwork& net) {
         cw.id = static_cast<int32_t>(i);
         cw.length = polyline_length(cw.centre);
         cw.crossings.clear();
-        // The segments of lanes that share a cell with one of the crosswalk's, each pair once, by
-        // lane and along it.
+        // The segments of lanes that share a cell with one of the crosswalk's, by lane and along it.
         pairs.clear();
         for (size_t k = 0; k + 1 < cw.centre.size(); ++k)
-            grid.near(cw.centre[k], cw.centre[k + 1], [&](Seg s) { pairs.push_back({s.line, s.k, static_cast<uint32_t>(k)}); });
+            grid.near(cw.centre[k], cw.centre[k + 1], [&](const Seg& s) { pairs.push_back({s.line, s.k, static_cast<uint32_t>(k)}); });
         std::sort(pairs.begin(), pairs.end());
-        pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
         for (size_t from = 0; from < pairs.size();) {
             const uint32_t lane = pairs[from].lane;
             of_lane.clear();
@@ -365,15 +420,27 @@ void mark_junctions(RoadNetwork& net) {
     SegmentGrid grid(SegmentGrid::cell_for(longest));
     for (const auto& l : lanes) grid.add(l.centre, static_cast<uint32_t>(l.id));
     std::vector<char> in(lanes.size(), 0);
-    for (const auto& [k, segs] : grid.cells()) {
-        for (size_t u = 0; u < segs.size(); ++u) {
-            for (size_t v = u + 1; v < segs.size(); ++v) {
-                const auto i = static_cast<size_t>(segs[u].line), j = static_cast<size_t>(segs[v].line);
-                if (i == j || (in[i] && in[j])) continue;
+    std::vector<size_t> starts;  // where each lane's run of segments begins in a cell
+    for (const auto& [key, segs] : grid.cells()) {
+        // A lane's segments are contiguous in a cell (added lane by lane): pairs are taken run by
+        // run, so that a lane's own segments are never paired and two lanes already marked are
+        // skipped whole.
+        starts.clear();
+        for (size_t u = 0; u < segs.size(); ++u)
+            if (u == 0 || segs[u].line != segs[u - 1].line) starts.push_back(u);
+        starts.push_back(segs.size());
+        for (size_t g = 0; g + 1 < starts.size(); ++g) {
+            for (size_t h = g + 1; h + 1 < starts.size(); ++h) {
+                const auto i = static_cast<size_t>(segs[starts[g]].line), j = static_cast<size_t>(segs[starts[h]].line);
+                if (in[i] && in[j]) continue;
                 const Lane& a = lanes[i];
                 const Lane& b = lanes[j];
-                if (!meet(a.centre[segs[u].k], a.centre[segs[u].k + 1], b.centre[segs[v].k], b.centre[segs[v].k + 1])) continue;
-                if (related(a, b.id) || related(b, a.id) || same_line(a, b)) continue;
+                bool meets = false;
+                for (size_t u = starts[g]; u < starts[g + 1] && !meets; ++u)
+                    for (size_t v = starts[h]; v < starts[h + 1] && !meets; ++v)
+                        meets = segs[u].first_shared_cell(segs[v], key) &&
+                                meet(a.centre[segs[u].k], a.centre[segs[u].k + 1], b.centre[segs[v].k], b.centre[segs[v].k + 1]);
+                if (!meets || related(a, b.id) || related(b, a.id) || same_line(a, b)) continue;
                 in[i] = in[j] = 1;
             }
         }

@@ -148,6 +148,10 @@ private:
     std::vector<LaneBoxes> boxes_;  // empty until prepare()
 };
 
+// A located error when more than 16 lanes and crosswalks pass through one place (a 2 m square
+// for sampled lanes): the limit that keeps find_crossings and mark_junctions linear in the map.
+std::optional<std::string> crowded_place(const RoadNetwork& net);
+
 // Fills every crosswalk's `length` and `crossings` from its centre line and the lanes (call
 // once lanes and crosswalks are complete, before prepare()).
 void find_crossings(RoadNetwork& net);
