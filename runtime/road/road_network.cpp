@@ -238,8 +238,9 @@ struct Seg {
 // The segments of polylines in a uniform grid of square cells no smaller than the longest
 // segment, so that each segment, its box widened by the meeting test's slack, lies in at most
 // 2 x 2 cells: the grid is linear in the points, and two segments that meet share the cell of
-// their meeting point. A pair is tested in the first cell the two share only. Testing every segment against every other took 22 s for a 6.6 KB map
-// (fuzz finding 14, junctions) and 47 s under ASan for an 898-byte one (finding 17, crossings).
+// their meeting point; a pair is tested only in the first cell the two share. Testing every
+// segment against every other took 22 s for a 6.6 KB map (fuzz finding 14, junctions) and 47 s
+// under ASan for an 898-byte one (finding 17, crossings).
 class SegmentGrid {
 public:
     explicit SegmentGrid(double cell) : cell_(cell) {}
