@@ -41,6 +41,16 @@ std::optional<Vec2> crossing(Vec2 a0, Vec2 a1, Vec2 b0, Vec2 b1) {
     return a0 + t * r;
 }
 
+// `count` lanes named l0, l1, ... on random lines of `min_points` to `min_points + spread - 1` points.
+void add_random_lanes(RoadNetwork& net, std::mt19937_64& rng, size_t count, size_t min_points, size_t spread, double box) {
+    for (size_t i = 0; i < count; ++i) {
+        Lane l;
+        l.name = "l" + std::to_string(i);
+        l.centre = random_line(rng, min_points + rng() % spread, box);
+        net.add_lane(l);
+    }
+}
+
 }  // namespace
 
 // find_crossings looks only at the segments near a crosswalk (a grid; testing every lane segment
@@ -51,13 +61,7 @@ TEST_CASE("find_crossings finds every crossing that testing every pair of segmen
     for (int round = 0; round < 40; ++round) {
         CAPTURE(round);
         RoadNetwork net;
-        const size_t lanes = 1 + rng() % 6;
-        for (size_t i = 0; i < lanes; ++i) {
-            Lane l;
-            l.name = "l" + std::to_string(i);
-            l.centre = random_line(rng, 20 + rng() % 200, 80);
-            net.add_lane(l);
-        }
+        add_random_lanes(net, rng, 1 + rng() % 6, 20, 200, 80);
         const size_t walks = 1 + rng() % 4;
         for (size_t i = 0; i < walks; ++i) {
             Crosswalk cw;
@@ -108,13 +112,7 @@ TEST_CASE("mark_junctions marks exactly the lanes that testing every pair of seg
     for (int round = 0; round < 60; ++round) {
         CAPTURE(round);
         RoadNetwork net;
-        const size_t lanes = 2 + rng() % 8;
-        for (size_t i = 0; i < lanes; ++i) {
-            Lane l;
-            l.name = "l" + std::to_string(i);
-            l.centre = random_line(rng, 2 + rng() % 150, 200);
-            net.add_lane(l);
-        }
+        add_random_lanes(net, rng, 2 + rng() % 8, 2, 150, 200);
         mark_junctions(net);
         const auto& all = net.lanes();
         for (size_t i = 0; i < all.size(); ++i) {
