@@ -11,8 +11,9 @@
 // outcome of a small sweep: the values of the heat-map cells or of the marks against
 // results.csv, including cells shared by several variants as mean and worst), the axes, hover,
 // clicking a variant without a kept run (its table row), the links to kept runs (the target
-// exists and opens), the sortable table, and the time the page takes for large sweeps. Prints one
-// line per check and takes a full-page screenshot. Exit status 0 = all checks passed.
+// exists and opens), the sortable table; it prints the time the page takes for large sweeps
+// (bench/sweep_report_load.sh holds them to a budget). Prints one line per check and takes a
+// full-page screenshot. Exit status 0 = all checks passed.
 //
 // --generate kinds (deterministic): grid2 (two parameters with grid levels; from 400 variants on,
 // four variants share each cell), random2 (two continuous parameters), latin3 (three continuous
@@ -207,7 +208,6 @@ async function run(browser) {
   if (info.error) fail(`page reported an error: ${info.error}`);
   noErrors('load');
   const sizeMb = (fs.statSync(file).size / 1e6).toFixed(2);
-  if (info.readyAt > 10000) fail(`the page took ${info.readyAt} ms to be ready (budget 10 s)`);
   pass(`ready: ${N} variants, navigation→ready ${info.readyAt} ms in page (${wallMs} ms wall clock); file ${sizeMb} MB, ` +
     `JSON.parse ${info.timings.parseMs} ms, init ${info.timings.initMs} ms, render ${info.timings.renderMs} ms`);
   const s0 = await state();
@@ -430,8 +430,8 @@ async function run(browser) {
     sample = svgs[svgs.length - 1];
   }
   if (large) {
-    const worst = Math.max(...switchMs);
-    if (worst > 5000) fail(`switching the outcome took up to ${worst} ms with ${N} variants (budget 5 s)`);
+    // Reported, not checked: the budgets (ready in 10 s, a switch in 5 s) are
+    // bench/sweep_report_load.sh's, since no test depends on wall-clock speed.
     pass(`responsive with ${N} variants: outcome switches ${switchMs.join(', ')} ms`);
   }
   noErrors('main view');
@@ -524,7 +524,7 @@ async function run(browser) {
   }
   if (N > 60) { // scrolling the window renders the last variants
     await page.evaluate(() => { const w = document.getElementById('tableWrap'); w.scrollTop = w.scrollHeight; });
-    await page.waitForFunction((last) => !!document.querySelector(`#table tr[data-v="${last}"]`), variants[N - 1], { timeout: 5000 });
+    await page.waitForFunction((last) => !!document.querySelector(`#table tr[data-v="${last}"]`), variants[N - 1], { timeout: 60000 });
     await page.evaluate(() => { document.getElementById('tableWrap').scrollTop = 0; });
   }
   if (s0.kept.length) pass(`table: the rows of the kept variants ${s0.kept.join(', ')} link to their runs/<i>/view.html`);
