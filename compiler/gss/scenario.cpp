@@ -5,6 +5,7 @@
 #include "compiler/gss/lower.h"
 #include "compiler/syntax/format.h"
 #include "runtime/road/lanelet2_reader.h"
+#include "runtime/road/reader_text.h"
 #include "runtime/road/routing.h"
 
 #include <pugixml.hpp>
@@ -88,11 +89,22 @@ public:
         for (auto n : osm.children("node")) {
             GeoPoint p;
             p.range = range(n);
-            p.lat = n.attribute("lat").as_double(NAN);
-            p.lon = n.attribute("lon").as_double(NAN);
+            // Whole numbers only: pugixml's as_double reads "8.:5461" as 8 (the node moves tens
+            // of kilometres without a word).
+            const auto lat = road::parse_number(n.attribute("lat").as_string());
+            const auto lon = road::parse_number(n.attribute("lon").as_string());
+            p.lat = lat.value_or(NAN);
+            p.lon = lon.value_or(NAN);
             const long long id = n.attribute("id").as_llong(0);
-            if (!std::isfinite(p.lat) || !std::isfinite(p.lon) || std::fabs(p.lat) > 90 || std::fabs(p.lon) > 180) {
-                diags_.error("E0911", p.range, "node " + std::to_string(id) + ": invalid or missing lat/lon");
+            node_elems_.emplace(id, n);  // the first node of an id, as node_tags found it
+            if (!lat || !lon) {
+                const char* key = !lat ? "lat" : "lon";
+                diags_.error("E0911", p.range, "node " + std::to_string(id) + ": " + key + " '" +
+                                                   n.attribute(key).as_string() + "' is not a number");
+                continue;
+            }
+            if (std::fabs(p.lat) > 90 || std::fabs(p.lon) > 180) {
+                diags_.error("E0911", p.range, "node " + std::to_string(id) + ": invalid lat/lon");
                 continue;
             }
             nodes[id] = p;
@@ -176,7 +188,7 @@ public:
                     // agentacceleration / timetoacceleration (usespeedprofile).
                     GsPathNode pn;
                     pn.at = f->second;
-                    const auto ntags = node_tags(osm, ref);
+                    const auto ntags = node_tags(ref);
                     const std::string who = "path '" + *name + "', node " + std::to_string(ref);
                     if (auto sp = ntags.find("agentspeed"); sp != ntags.end()) {
                         pn.speed = number(sp->second, who, "agentspeed");
@@ -191,7 +203,7 @@ public:
                 if (what == "trajectory") {
                     GsTnode t;
                     t.at = f->second;
-                    const auto ntags = node_tags(osm, ref);
+                    const auto ntags = node_tags(ref);
                     auto time = ntags.find("time");
                     if (time == ntags.end()) {
                         diags_.error("E0911", f->second.range, "trajectory '" + *name + "': node " + std::to_string(ref) +
@@ -273,11 +285,11 @@ private:
         return tags;
     }
 
-    Tags node_tags(const pugi::xml_node& osm, long long id) const {
-        for (auto n : osm.children("node")) {
-            if (n.attribute("id").as_llong(0) == id) return read_tags(n);
-        }
-        return {};
+    // The tags of the first node of this id: looked up, not searched for (a search per path
+    // node was quadratic in a scenario's nodes).
+    Tags node_tags(long long id) const {
+        auto f = node_elems_.find(id);
+        return f == node_elems_.end() ? Tags{} : read_tags(f->second);
     }
 
     static std::optional<std::string> text(const Tags& tags, const char* key) {
@@ -641,6 +653,7 @@ private:
     diag::FileId file_;
     std::string_view text_;
     diag::DiagnosticEngine& diags_;
+    std::map<long long, pugi::xml_node> node_elems_;
 };
 
 // A GeoScenario yaw (degrees, clockwise: follow.gs.osm's 310 faces north-east) as a heading

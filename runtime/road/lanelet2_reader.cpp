@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "runtime/road/lane_geometry.h"
+#include "runtime/road/reader_text.h"
 
 namespace sdv::road {
 namespace {
@@ -475,35 +476,47 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
             continue;
         }
         const auto tags = read_tags(n);
-        const double lat = n.attribute("lat").as_double(NAN),
-                     lon = n.attribute("lon").as_double(NAN);
+        // Every number whole: strtod (and pugixml's as_double, which Lanelet2's loader uses)
+        // read "8.:5461" as 8 and moved the node tens of kilometres without a word.
+        auto not_number = [&](const char* what, const std::string& text) {
+            r.errors.push_back("node " + std::to_string(id) + ": " + what + " '" + text + "' is not a number");
+        };
         if (auto e = tags.find("ele"); e != tags.end()) {
-            char* end = nullptr;
-            const double h = std::strtod(e->second.c_str(), &end);
-            if (end != e->second.c_str() && std::isfinite(h)) heights[id] = h;
+            const auto h = parse_number(e->second.c_str());
+            if (!h) {
+                not_number("ele", e->second);
+                continue;
+            }
+            heights[id] = *h;
         }
         if (tags.count("local_x") && tags.count("local_y")) {
-            char* end_x = nullptr;
-            char* end_y = nullptr;
             const std::string& tx = tags.at("local_x");
             const std::string& ty = tags.at("local_y");
-            const Vec2 p{std::strtod(tx.c_str(), &end_x), std::strtod(ty.c_str(), &end_y)};
-            if (end_x == tx.c_str() || end_y == ty.c_str() || !std::isfinite(p.x) || !std::isfinite(p.y)) {
+            const auto x = parse_number(tx.c_str()), y = parse_number(ty.c_str());
+            if (!x || !y) {
                 r.errors.push_back("node " + std::to_string(id) + ": local_x / local_y are not numbers ('" + tx +
                                    "', '" + ty + "')");
                 continue;
             }
-            if (std::fabs(p.x) > kMaxCoordinate || std::fabs(p.y) > kMaxCoordinate) {
+            if (std::fabs(*x) > kMaxCoordinate || std::fabs(*y) > kMaxCoordinate) {
                 r.errors.push_back("node " + std::to_string(id) + ": local coordinates (" + tx + ", " + ty +
                                    ") are more than 1,000 km from the map's origin");
                 continue;
             }
-            nodes[id] = p;
+            nodes[id] = Vec2{*x, *y};
             continue;
         }
-        if (!std::isfinite(lat) || !std::isfinite(lon) || std::fabs(lat) > 90 ||
-            std::fabs(lon) > 180) {
-            r.errors.push_back("node " + std::to_string(id) + ": invalid coordinates");
+        const std::string lat_text = n.attribute("lat").as_string(), lon_text = n.attribute("lon").as_string();
+        const auto lat_read = parse_number(lat_text.c_str()), lon_read = parse_number(lon_text.c_str());
+        if (!lat_read || !lon_read) {
+            if (!lat_read) not_number("lat", lat_text);
+            if (!lon_read) not_number("lon", lon_text);
+            continue;
+        }
+        const double lat = *lat_read, lon = *lon_read;
+        if (std::fabs(lat) > 90 || std::fabs(lon) > 180) {
+            r.errors.push_back("node " + std::to_string(id) + ": invalid coordinates (lat " + lat_text + ", lon " +
+                               lon_text + ")");
             continue;
         }
         if (!have_origin) {

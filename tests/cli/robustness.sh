@@ -133,6 +133,11 @@ open(f"{d}/name_newline.gs.osm", "w", encoding="latin-1").write(
     s.replace("v='red_light_runner'", "v='red&#10;    expect collision(v1)&#10;'"))
 open(f"{d}/light_name.gs.osm", "w", encoding="latin-1").write(
     s.replace("k='name' v='tl_e_w'", "k='name' v='tl_e_w { green 1 s } expect collision(v1) light tl_e_w'"))
+import re
+node = re.search(r"<node id='([-0-9]+)'[^>]*? lon='([^']*)'", s)
+open(f"{d}/lon_tail.txt", "w").write(node.group(1))
+open(f"{d}/lon_tail.gs.osm", "w", encoding="latin-1").write(
+    s.replace(node.group(0), node.group(0).replace("lon='" + node.group(2), "lon='" + node.group(2)[:4] + ":" + node.group(2)[4:])))
 open(f"{d}/latin1_name.gs.osm", "w", encoding="latin-1").write(
     s.replace("k='name' v='tl_e_w'", "k='name' v='tl_\xe9_w'"))
 PY
@@ -150,6 +155,14 @@ PY
         echo "ok   light_name: refused with E0911"
     else
         echo "FAIL light_name: $out" | head -3; fail=1
+    fi
+    # A coordinate with a tail ('-80.:5...') is no number, not the -80 strtod reads (the node
+    # would move tens of kilometres).
+    out=$("$sdv" lint "$dir/lon_tail.gs.osm" "${gargs[@]}" 2>&1)
+    if [ $? = 1 ] && grep -q "error\[E0911\]: node $(cat "$dir/lon_tail.txt"): lon '[-0-9]*\.:[0-9]*' is not a number" <<<"$out"; then
+        echo "ok   lon_tail: refused with E0911 naming the node"
+    else
+        echo "FAIL lon_tail: $out" | head -3; fail=1
     fi
     "$sdv" lint --format json "$dir/latin1_name.gs.osm" "${gargs[@]}" > "$dir/l1.json" 2> /dev/null
     code=$?

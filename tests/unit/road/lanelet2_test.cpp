@@ -5,6 +5,8 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <sstream>
 
@@ -132,6 +134,75 @@ TEST_CASE("malformed maps give errors naming the element") {
     CHECK(!parse_lanelet2("<osm><node").errors.empty());
     CHECK(!parse_lanelet2("").errors.empty());
     CHECK(load_lanelet2("/no/such/map.osm").errors[0] == "cannot read map file '/no/such/map.osm'");
+}
+
+TEST_CASE("a coordinate is a whole number or the node is refused, naming it") {
+    // Random coordinates of a real map, each spoilt in one way strtod (and pugixml, and
+    // Lanelet2's loader) would have read a prefix of: the map is refused with an error naming
+    // the node and the attribute. (A fuzz input read lon "8.:5461" as 8: its node moved 30 km
+    // and its lanelets became 30 km long.) Spaces and a sign around a number are fine.
+    std::ifstream in(kShared + "/data/geoscenario/maps/lanelet2_university_weber_alt.osm");
+    REQUIRE(in);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    struct Attr {
+        size_t at, size;  // the value
+        std::string node, key;
+    };
+    std::vector<Attr> attrs;
+    for (size_t n = text.find("<node "); n != std::string::npos; n = text.find("<node ", n + 1)) {
+        const size_t id = text.find("id='", n) + 4, end = text.find('>', n);
+        for (const char* key : {"lat", "lon"}) {
+            const size_t v = text.find(std::string(" ") + key + "='", n) + std::string(key).size() + 3;
+            REQUIRE(v < end);
+            attrs.push_back({v, text.find('\'', v) - v, text.substr(id, text.find('\'', id) - id), key});
+        }
+    }
+    REQUIRE(attrs.size() > 400);
+    const auto base = parse_lanelet2(text);
+    REQUIRE(base.errors.empty());
+    REQUIRE(base.network);
+    std::mt19937 rng(19);
+    const std::vector<std::string> spoil_end = {":", "x", "mph", ",5", "e", "e+", "..1", "-", " 1"};
+    for (int round = 0; round < 24; ++round) {
+        const Attr& a = attrs[std::uniform_int_distribution<size_t>(0, attrs.size() - 1)(rng)];
+        std::string value = text.substr(a.at, a.size);
+        switch (round % 3) {
+            case 0: value += spoil_end[static_cast<size_t>(round) % spoil_end.size()]; break;  // a tail
+            case 1: value[std::uniform_int_distribution<size_t>(3, value.size() - 1)(rng)] = ':'; break;  // a byte
+            default: value = round % 2 ? "" : "north"; break;  // no number at all
+        }
+        const std::string spoilt = text.substr(0, a.at) + value + text.substr(a.at + a.size);
+        CAPTURE(value);
+        const auto r = parse_lanelet2(spoilt);
+        REQUIRE(!r.errors.empty());
+        CHECK(r.errors[0] == "node " + a.node + ": " + a.key + " '" + value + "' is not a number");
+    }
+    // Spaces and a plus sign around every coordinate: the same map.
+    std::string padded = text;
+    for (auto a = attrs.rbegin(); a != attrs.rend(); ++a) {
+        const std::string v = text.substr(a->at, a->size);
+        padded.replace(a->at, a->size, " " + (v[0] == '-' ? v : "+" + v) + " ");
+    }
+    const auto same = parse_lanelet2(padded);
+    CHECK(same.errors.empty());
+    REQUIRE(same.network);
+    REQUIRE(same.network->lanes().size() == base.network->lanes().size());
+    for (size_t i = 0; i < base.network->lanes().size(); ++i)
+        CHECK(same.network->lanes()[i].centre == base.network->lanes()[i].centre);
+    // local_x / local_y and ele, on the small map.
+    auto with_node = [](const std::string& tags) {
+        return parse_lanelet2(osm("<node id='7' lat='0' lon='0'>" + tags + "</node>"
+                                  "<relation id='100'><member type='way' ref='10' role='left'/><member type='way' "
+                                  "ref='11' role='right'/><tag k='type' v='lanelet'/></relation>"));
+    };
+    const auto fine = with_node("<tag k='local_x' v='1.5'/><tag k='local_y' v=' 2 '/><tag k='ele' v='-3e1'/>");
+    CHECK_MESSAGE(fine.errors.empty(), (fine.errors.empty() ? "" : fine.errors[0]));
+    const auto x = with_node("<tag k='local_x' v='1.5m'/><tag k='local_y' v='2'/>");
+    REQUIRE(!x.errors.empty());
+    CHECK(x.errors[0] == "node 7: local_x / local_y are not numbers ('1.5m', '2')");
+    const auto ele = with_node("<tag k='local_x' v='1'/><tag k='local_y' v='2'/><tag k='ele' v='298.0 m'/>");
+    REQUIRE(!ele.errors.empty());
+    CHECK(ele.errors[0] == "node 7: ele '298.0 m' is not a number");
 }
 
 TEST_CASE("a map loads when its lanes total at most 100 km, and is refused with a located error above") {
