@@ -89,8 +89,8 @@ public:
         for (auto n : osm.children("node")) {
             GeoPoint p;
             p.range = range(n);
-            // Whole numbers only: pugixml's as_double reads "8.:5461" as 8 (the node moves tens
-            // of kilometres without a word).
+            // A number and nothing more: pugixml's as_double reads "8.:5461" as 8 (the node
+            // moves tens of kilometres without a word).
             const auto lat = road::parse_number(n.attribute("lat").as_string());
             const auto lon = road::parse_number(n.attribute("lon").as_string());
             p.lat = lat.value_or(NAN);

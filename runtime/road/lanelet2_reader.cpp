@@ -476,8 +476,8 @@ LoadResult parse_lanelet2(const std::string& xml, std::optional<GeoOrigin> origi
             continue;
         }
         const auto tags = read_tags(n);
-        // Every number whole: strtod (and pugixml's as_double, which Lanelet2's loader uses)
-        // read "8.:5461" as 8 and moved the node tens of kilometres without a word.
+        // Each a number and nothing more: strtod (and pugixml's as_double, which Lanelet2's
+        // loader uses) read "8.:5461" as 8 and moved the node tens of kilometres without a word.
         auto not_number = [&](const char* what, const std::string& text) {
             r.errors.push_back("node " + std::to_string(id) + ": " + what + " '" + text + "' is not a number");
         };

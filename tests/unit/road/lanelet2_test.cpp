@@ -136,7 +136,7 @@ TEST_CASE("malformed maps give errors naming the element") {
     CHECK(load_lanelet2("/no/such/map.osm").errors[0] == "cannot read map file '/no/such/map.osm'");
 }
 
-TEST_CASE("a coordinate is a whole number or the node is refused, naming it") {
+TEST_CASE("a coordinate is a number and nothing more, or the node is refused, naming it") {
     // Random coordinates of a real map, each spoilt in one way strtod (and pugixml, and
     // Lanelet2's loader) would have read a prefix of: the map is refused with an error naming
     // the node and the attribute. (A fuzz input read lon "8.:5461" as 8: its node moved 30 km
