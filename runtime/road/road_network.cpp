@@ -202,6 +202,15 @@ namespace {
 // the grid's work grows with the square of it (fuzz finding 18: 500 lanelets stacked on two
 // ways, 83 KB, took 21 s under ASan; at 32, lanes stacked 32 deep along 3 km took 1.4 s).
 constexpr size_t kMaxLinesAtOnePlace = 16;
+// The most pieces of centre line (segments, 0.5 m or shorter for sampled lanes) of lanes and
+// crosswalks in one cell: what 16 straight lines give along an axis (6 each), where the
+// busiest real map has 28. The grid's work per segment grows with it: lanelets whose bounds
+// zigzag inside one square put thousands of segments there without ever meeting (fuzz finding
+// 20: 8 lanelets folded 500 times each into one square, 560 KB, took 12 s under ASan).
+constexpr size_t kMaxSegmentsAtOnePlace = 96;
+// A line with more pieces than this in one cell folds back on itself (a straight one has at
+// most 8, the curves of the real maps 9): said in the message.
+constexpr size_t kFoldedSegments = 12;
 
 // Half the strip along a lane is never counted longer than this: a crosswalk almost parallel
 // to a lane would otherwise cover the whole lane.
@@ -281,11 +290,14 @@ public:
 
     const std::unordered_map<uint64_t, std::vector<Seg>>& cells() const { return cells_; }
 
+    // More than the meeting test's slack (1e-9 of a segment's length) beyond either end: two
+    // segments that meet have boxes closer than this.
+    double widen() const { return 1e-6 + 1e-8 * cell_; }
+
 private:
     template <class F>
     void for_cells(Vec2 p, Vec2 q, F&& f) const {
-        // More than the meeting test's slack (1e-9 of a segment's length) beyond either end.
-        const double widen = 1e-6 + 1e-8 * cell_;
+        const double widen = this->widen();
         const auto x0 = static_cast<int64_t>(std::floor((std::min(p.x, q.x) - widen) / cell_));
         const auto x1 = static_cast<int64_t>(std::floor((std::max(p.x, q.x) + widen) / cell_));
         const auto y0 = static_cast<int64_t>(std::floor((std::min(p.y, q.y) - widen) / cell_));
@@ -340,26 +352,48 @@ std::optional<std::string> crowded_place(const RoadNetwork& net) {
     SegmentGrid grid(cell);
     for (const auto& l : lanes) grid.add(l.centre, static_cast<uint32_t>(l.id));
     for (size_t i = 0; i < net.crosswalks.size(); ++i) grid.add(net.crosswalks[i].centre, static_cast<uint32_t>(lanes.size() + i));
+    // A line's segments are contiguous in a cell (added line by line).
+    auto lines_in = [](const std::vector<Seg>& segs) {
+        size_t lines = 0;
+        for (size_t u = 0; u < segs.size(); ++u) lines += u == 0 || segs[u].line != segs[u - 1].line;
+        return lines;
+    };
     // The crowded cell of smallest key, so that the message does not depend on the hash order.
     std::optional<uint64_t> worst;
     for (const auto& [key, segs] : grid.cells()) {
-        size_t lines = 0;  // a line's segments are contiguous in a cell (added line by line)
-        for (size_t u = 0; u < segs.size(); ++u) lines += u == 0 || segs[u].line != segs[u - 1].line;
-        if (lines > kMaxLinesAtOnePlace && (!worst || key < *worst)) worst = key;
+        const bool crowded = segs.size() > kMaxSegmentsAtOnePlace || lines_in(segs) > kMaxLinesAtOnePlace;
+        if (crowded && (!worst || key < *worst)) worst = key;
     }
     if (!worst) return std::nullopt;
-    const auto& first = grid.cells().at(*worst).front();
-    const std::string name = first.line < lanes.size() ? "lanelet " + lanes[first.line].name
-                                                       : "crosswalk " + net.crosswalks[first.line - lanes.size()].name;
+    const auto& segs = grid.cells().at(*worst);
+    auto name_of = [&](uint32_t line) {
+        return line < lanes.size() ? "lanelet " + lanes[line].name : "crosswalk " + net.crosswalks[line - lanes.size()].name;
+    };
     auto corner = [&](uint32_t c) {
         char buf[32];
         std::snprintf(buf, sizeof buf, "%.0f", static_cast<double>(static_cast<int32_t>(c)) * cell);
         return std::string(buf);
     };
-    return name + ": more than " + std::to_string(kMaxLinesAtOnePlace) + " lanes and crosswalks pass through the " +
-           corner(1) + " m square at (" + corner(static_cast<uint32_t>(*worst >> 32)) + ", " +
-           corner(static_cast<uint32_t>(*worst)) + "); sdv reads maps of at most " + std::to_string(kMaxLinesAtOnePlace) +
-           " at one place (are lanelets stacked on each other?)";
+    const std::string square = "the " + corner(1) + " m square at (" + corner(static_cast<uint32_t>(*worst >> 32)) + ", " +
+                               corner(static_cast<uint32_t>(*worst)) + ")";
+    if (lines_in(segs) > kMaxLinesAtOnePlace) {
+        return name_of(segs.front().line) + ": more than " + std::to_string(kMaxLinesAtOnePlace) +
+               " lanes and crosswalks pass through " + square + "; sdv reads maps of at most " +
+               std::to_string(kMaxLinesAtOnePlace) + " at one place (are lanelets stacked on each other?)";
+    }
+    // Too many pieces of line: name the line with the most of them there (the first of equals).
+    uint32_t most = segs.front().line;
+    size_t most_n = 0;
+    for (size_t u = 0; u < segs.size();) {
+        size_t v = u;
+        while (v < segs.size() && segs[v].line == segs[u].line) ++v;
+        if (v - u > most_n) most = segs[u].line, most_n = v - u;
+        u = v;
+    }
+    return name_of(most) + ": " + std::to_string(segs.size()) + " pieces of lane and crosswalk centre lines lie in " +
+           square + ", " + std::to_string(most_n) + " of them its own; sdv reads maps of at most " +
+           std::to_string(kMaxSegmentsAtOnePlace) + " in one place (pieces of 0.5 m; " +
+           (most_n > kFoldedSegments ? "does the lanelet fold back on itself?)" : "are lanelets stacked on each other?)");
 }
 
 void find_crossings(RoadNetwork& net) {
@@ -421,28 +455,41 @@ void mark_junctions(RoadNetwork& net) {
     SegmentGrid grid(SegmentGrid::cell_for(longest));
     for (const auto& l : lanes) grid.add(l.centre, static_cast<uint32_t>(l.id));
     std::vector<char> in(lanes.size(), 0);
-    std::vector<size_t> starts;  // where each lane's run of segments begins in a cell
+    // In each cell, the segments swept by the left edge of their boxes (widened by the grid's
+    // slack, so that segments that meet have boxes that touch): only segments of two lanes whose
+    // boxes overlap are tested, so the work is the number of such pairs, not the square of the
+    // cell's segments (16 lanes stacked along 6 km took 1.5 s under ASan testing every pair of
+    // their runs).
+    struct Box {
+        double x0, y0, x1, y1;
+    };
+    std::vector<Box> box;
+    std::vector<uint32_t> order;
+    const double widen = grid.widen();
     for (const auto& [key, segs] : grid.cells()) {
-        // A lane's segments are contiguous in a cell (added lane by lane): pairs are taken run by
-        // run, so that a lane's own segments are never paired and two lanes already marked are
-        // skipped whole.
-        starts.clear();
-        for (size_t u = 0; u < segs.size(); ++u)
-            if (u == 0 || segs[u].line != segs[u - 1].line) starts.push_back(u);
-        starts.push_back(segs.size());
-        for (size_t g = 0; g + 1 < starts.size(); ++g) {
-            for (size_t h = g + 1; h + 1 < starts.size(); ++h) {
-                const auto i = static_cast<size_t>(segs[starts[g]].line), j = static_cast<size_t>(segs[starts[h]].line);
-                if (in[i] && in[j]) continue;
-                const Lane& a = lanes[i];
-                const Lane& b = lanes[j];
-                bool meets = false;
-                for (size_t u = starts[g]; u < starts[g + 1] && !meets; ++u)
-                    for (size_t v = starts[h]; v < starts[h + 1] && !meets; ++v)
-                        meets = segs[u].first_shared_cell(segs[v], key) &&
-                                meet(a.centre[segs[u].k], a.centre[segs[u].k + 1], b.centre[segs[v].k], b.centre[segs[v].k + 1]);
-                if (!meets || related(a, b.id) || related(b, a.id) || same_line(a, b)) continue;
-                in[i] = in[j] = 1;
+        box.clear();
+        order.clear();
+        for (size_t u = 0; u < segs.size(); ++u) {
+            const auto& c = lanes[segs[u].line].centre;
+            const Vec2 p = c[segs[u].k], q = c[segs[u].k + 1];
+            box.push_back({std::min(p.x, q.x) - widen, std::min(p.y, q.y) - widen, std::max(p.x, q.x) + widen,
+                           std::max(p.y, q.y) + widen});
+            order.push_back(static_cast<uint32_t>(u));
+        }
+        std::sort(order.begin(), order.end(), [&](uint32_t u, uint32_t v) { return box[u].x0 < box[v].x0; });
+        for (size_t a = 0; a < order.size(); ++a) {
+            const Seg& su = segs[order[a]];
+            const Box& bu = box[order[a]];
+            for (size_t b = a + 1; b < order.size() && box[order[b]].x0 <= bu.x1; ++b) {
+                const Seg& sv = segs[order[b]];
+                const Box& bv = box[order[b]];
+                if (su.line == sv.line || bv.y0 > bu.y1 || bu.y0 > bv.y1) continue;
+                if ((in[su.line] && in[sv.line]) || !su.first_shared_cell(sv, key)) continue;
+                const Lane& l = lanes[su.line];
+                const Lane& m = lanes[sv.line];
+                if (!meet(l.centre[su.k], l.centre[su.k + 1], m.centre[sv.k], m.centre[sv.k + 1])) continue;
+                if (related(l, m.id) || related(m, l.id) || same_line(l, m)) continue;
+                in[su.line] = in[sv.line] = 1;
             }
         }
     }

@@ -148,8 +148,9 @@ private:
     std::vector<LaneBoxes> boxes_;  // empty until prepare()
 };
 
-// A located error when more than 16 lanes and crosswalks pass through one place (a 2 m square
-// for sampled lanes): the limit that keeps find_crossings and mark_junctions linear in the map.
+// A located error when more than 16 lanes and crosswalks, or more than 96 segments of their
+// centre lines, pass through one place (a 2 m square for sampled lanes): the limits that keep
+// find_crossings and mark_junctions linear in the map.
 std::optional<std::string> crowded_place(const RoadNetwork& net);
 
 // Fills every crosswalk's `length` and `crossings` from its centre line and the lanes (call

@@ -128,3 +128,56 @@ TEST_CASE("mark_junctions marks exactly the lanes that testing every pair of seg
         }
     }
 }
+
+// The same on lanes drawn on a 0.5 m lattice in a 12 m box: centre lines that touch at vertices,
+// end on another's segment, overlap along a line, and end exactly on the grid's 2 m cell edges,
+// where the sweep of each cell (segments whose widened boxes overlap) and the cell a pair is
+// tested in decide. On the lattice the brute force is exact: two segments meet when they are not
+// parallel and each reaches the other's line within its ends.
+TEST_CASE("mark_junctions marks exactly the lanes that testing every pair finds, on lanes that touch") {
+    std::mt19937_64 rng(20);
+    auto touch = [](Vec2 a0, Vec2 a1, Vec2 b0, Vec2 b1) {
+        const Vec2 r = a1 - a0, s = b1 - b0;
+        double den = cross(r, s), tn = cross(b0 - a0, s), un = cross(b0 - a0, r);
+        if (den == 0) return false;
+        if (den < 0) den = -den, tn = -tn, un = -un;
+        return tn >= 0 && tn <= den && un >= 0 && un <= den;
+    };
+    int marked = 0, unmarked = 0;
+    for (int round = 0; round < 200; ++round) {
+        CAPTURE(round);
+        RoadNetwork net;
+        const size_t count = 2 + rng() % 10;
+        for (size_t i = 0; i < count; ++i) {
+            Lane l;
+            l.name = "l" + std::to_string(i);
+            // A walk of 2 to 24 points, steps of 0.5 m along or across the axes, inside the box.
+            Vec2 p{0.5 * static_cast<double>(rng() % 25), 0.5 * static_cast<double>(rng() % 25)};
+            l.centre.push_back(p);
+            const size_t points = 2 + rng() % 23;
+            while (l.centre.size() < points) {
+                const Vec2 step{0.5 * (static_cast<double>(rng() % 3) - 1), 0.5 * (static_cast<double>(rng() % 3) - 1)};
+                const Vec2 q = p + step;
+                if ((step.x == 0 && step.y == 0) || q.x < 0 || q.y < 0 || q.x > 12 || q.y > 12) continue;
+                l.centre.push_back(p = q);
+            }
+            net.add_lane(l);
+        }
+        mark_junctions(net);
+        const auto& all = net.lanes();
+        for (size_t i = 0; i < all.size(); ++i) {
+            bool want = false;
+            for (size_t j = 0; j < all.size() && !want; ++j) {
+                if (i == j) continue;
+                const auto& a = all[i].centre;
+                const auto& b = all[j].centre;
+                for (size_t p = 0; p + 1 < a.size() && !want; ++p)
+                    for (size_t q = 0; q + 1 < b.size() && !want; ++q) want = touch(a[p], a[p + 1], b[q], b[q + 1]);
+            }
+            CHECK_MESSAGE(all[i].in_junction == want, all[i].name);
+            (want ? marked : unmarked) += 1;
+        }
+    }
+    CHECK(marked > 100);
+    CHECK(unmarked > 100);
+}
