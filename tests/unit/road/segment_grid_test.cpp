@@ -51,6 +51,28 @@ void add_random_lanes(RoadNetwork& net, std::mt19937_64& rng, size_t count, size
     }
 }
 
+// Whether a lane's centre line meets another's, by testing every pair of their segments with
+// `meets`: what mark_junctions must have marked (the lanes have no relations). Checks each lane
+// and returns how many are marked.
+template <class Meets>
+size_t check_marks_against_every_pair(const RoadNetwork& net, Meets&& meets) {
+    const auto& all = net.lanes();
+    size_t marked = 0;
+    for (size_t i = 0; i < all.size(); ++i) {
+        bool want = false;
+        for (size_t j = 0; j < all.size() && !want; ++j) {
+            if (i == j) continue;
+            const auto& a = all[i].centre;
+            const auto& b = all[j].centre;
+            for (size_t p = 0; p + 1 < a.size() && !want; ++p)
+                for (size_t q = 0; q + 1 < b.size() && !want; ++q) want = meets(a[p], a[p + 1], b[q], b[q + 1]);
+        }
+        CHECK_MESSAGE(all[i].in_junction == want, all[i].name);
+        marked += want;
+    }
+    return marked;
+}
+
 }  // namespace
 
 // find_crossings looks only at the segments near a crosswalk (a grid; testing every lane segment
@@ -114,18 +136,7 @@ TEST_CASE("mark_junctions marks exactly the lanes that testing every pair of seg
         RoadNetwork net;
         add_random_lanes(net, rng, 2 + rng() % 8, 2, 150, 200);
         mark_junctions(net);
-        const auto& all = net.lanes();
-        for (size_t i = 0; i < all.size(); ++i) {
-            bool want = false;
-            for (size_t j = 0; j < all.size() && !want; ++j) {
-                if (i == j) continue;
-                const auto& a = all[i].centre;
-                const auto& b = all[j].centre;
-                for (size_t p = 0; p + 1 < a.size() && !want; ++p)
-                    for (size_t q = 0; q + 1 < b.size() && !want; ++q) want = crossing(a[p], a[p + 1], b[q], b[q + 1]).has_value();
-            }
-            CHECK_MESSAGE(all[i].in_junction == want, all[i].name);
-        }
+        check_marks_against_every_pair(net, [](Vec2 a0, Vec2 a1, Vec2 b0, Vec2 b1) { return crossing(a0, a1, b0, b1).has_value(); });
     }
 }
 
@@ -143,7 +154,7 @@ TEST_CASE("mark_junctions marks exactly the lanes that testing every pair finds,
         if (den < 0) den = -den, tn = -tn, un = -un;
         return tn >= 0 && tn <= den && un >= 0 && un <= den;
     };
-    int marked = 0, unmarked = 0;
+    size_t marked = 0, unmarked = 0;
     for (int round = 0; round < 200; ++round) {
         CAPTURE(round);
         RoadNetwork net;
@@ -164,19 +175,9 @@ TEST_CASE("mark_junctions marks exactly the lanes that testing every pair finds,
             net.add_lane(l);
         }
         mark_junctions(net);
-        const auto& all = net.lanes();
-        for (size_t i = 0; i < all.size(); ++i) {
-            bool want = false;
-            for (size_t j = 0; j < all.size() && !want; ++j) {
-                if (i == j) continue;
-                const auto& a = all[i].centre;
-                const auto& b = all[j].centre;
-                for (size_t p = 0; p + 1 < a.size() && !want; ++p)
-                    for (size_t q = 0; q + 1 < b.size() && !want; ++q) want = touch(a[p], a[p + 1], b[q], b[q + 1]);
-            }
-            CHECK_MESSAGE(all[i].in_junction == want, all[i].name);
-            (want ? marked : unmarked) += 1;
-        }
+        const size_t m = check_marks_against_every_pair(net, touch);
+        marked += m;
+        unmarked += net.lanes().size() - m;
     }
     CHECK(marked > 100);
     CHECK(unmarked > 100);
