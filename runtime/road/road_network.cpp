@@ -352,16 +352,25 @@ std::optional<std::string> crowded_place(const RoadNetwork& net) {
     SegmentGrid grid(cell);
     for (const auto& l : lanes) grid.add(l.centre, static_cast<uint32_t>(l.id));
     for (size_t i = 0; i < net.crosswalks.size(); ++i) grid.add(net.crosswalks[i].centre, static_cast<uint32_t>(lanes.size() + i));
-    // A line's segments are contiguous in a cell (added line by line).
+    // The lines of a cell and the one with the most segments there (the first of equals): a
+    // line's segments are contiguous in a cell (added line by line).
+    struct Lines {
+        size_t count = 0, most_n = 0;
+        uint32_t most = 0;
+    };
     auto lines_in = [](const std::vector<Seg>& segs) {
-        size_t lines = 0;
-        for (size_t u = 0; u < segs.size(); ++u) lines += u == 0 || segs[u].line != segs[u - 1].line;
-        return lines;
+        Lines r;
+        for (size_t u = 0, v = 0; u < segs.size(); u = v) {
+            while (v < segs.size() && segs[v].line == segs[u].line) ++v;
+            ++r.count;
+            if (v - u > r.most_n) r.most = segs[u].line, r.most_n = v - u;
+        }
+        return r;
     };
     // The crowded cell of smallest key, so that the message does not depend on the hash order.
     std::optional<uint64_t> worst;
     for (const auto& [key, segs] : grid.cells()) {
-        const bool crowded = segs.size() > kMaxSegmentsAtOnePlace || lines_in(segs) > kMaxLinesAtOnePlace;
+        const bool crowded = segs.size() > kMaxSegmentsAtOnePlace || lines_in(segs).count > kMaxLinesAtOnePlace;
         if (crowded && (!worst || key < *worst)) worst = key;
     }
     if (!worst) return std::nullopt;
@@ -376,24 +385,17 @@ std::optional<std::string> crowded_place(const RoadNetwork& net) {
     };
     const std::string square = "the " + corner(1) + " m square at (" + corner(static_cast<uint32_t>(*worst >> 32)) + ", " +
                                corner(static_cast<uint32_t>(*worst)) + ")";
-    if (lines_in(segs) > kMaxLinesAtOnePlace) {
+    const Lines lines = lines_in(segs);
+    if (lines.count > kMaxLinesAtOnePlace) {
         return name_of(segs.front().line) + ": more than " + std::to_string(kMaxLinesAtOnePlace) +
                " lanes and crosswalks pass through " + square + "; sdv reads maps of at most " +
                std::to_string(kMaxLinesAtOnePlace) + " at one place (are lanelets stacked on each other?)";
     }
-    // Too many pieces of line: name the line with the most of them there (the first of equals).
-    uint32_t most = segs.front().line;
-    size_t most_n = 0;
-    for (size_t u = 0; u < segs.size();) {
-        size_t v = u;
-        while (v < segs.size() && segs[v].line == segs[u].line) ++v;
-        if (v - u > most_n) most = segs[u].line, most_n = v - u;
-        u = v;
-    }
-    return name_of(most) + ": " + std::to_string(segs.size()) + " pieces of lane and crosswalk centre lines lie in " +
-           square + ", " + std::to_string(most_n) + " of them its own; sdv reads maps of at most " +
+    // Too many pieces of line: name the line with the most of them there.
+    return name_of(lines.most) + ": " + std::to_string(segs.size()) + " pieces of lane and crosswalk centre lines lie in " +
+           square + ", " + std::to_string(lines.most_n) + " of them its own; sdv reads maps of at most " +
            std::to_string(kMaxSegmentsAtOnePlace) + " in one place (pieces of 0.5 m; " +
-           (most_n > kFoldedSegments ? "does the lanelet fold back on itself?)" : "are lanelets stacked on each other?)");
+           (lines.most_n > kFoldedSegments ? "does the lanelet fold back on itself?)" : "are lanelets stacked on each other?)");
 }
 
 void find_crossings(RoadNetwork& net) {
