@@ -438,16 +438,37 @@ void find_crossings(RoadNetwork& net) {
     }
 }
 
-void mark_junctions(RoadNetwork& net) {
+size_t mark_junctions(RoadNetwork& net) {
     const auto& lanes = net.lanes();
-    // A two-way lanelet is two lanes on one centre line ("<id>" and "<id>:inv"): not a conflict.
-    auto same_line = [](const Lane& a, const Lane& b) {
-        auto base = [](const std::string& n) { return n.size() > 4 && n.compare(n.size() - 4, 4, ":inv") == 0 ? n.substr(0, n.size() - 4) : n; };
-        return base(a.name) == base(b.name);
-    };
-    auto related = [](const Lane& a, LaneId b) {
-        auto has = [b](const std::vector<LaneId>& v) { return std::find(v.begin(), v.end(), b) != v.end(); };
-        return a.left == b || a.right == b || has(a.successors) || has(a.predecessors);
+    // Lanes that may meet without forming a junction, in both directions: neighbours, successors
+    // and predecessors; and the two lanes of a two-way lanelet ("<id>" and "<id>:inv"), one centre
+    // line: lanes whose names without ":inv" are the same have the same `line_of`.
+    std::vector<std::vector<uint32_t>> exempt(lanes.size());
+    std::vector<uint32_t> line_of(lanes.size());
+    {
+        std::unordered_map<std::string, uint32_t> lines;
+        for (size_t i = 0; i < lanes.size(); ++i) {
+            const Lane& l = lanes[i];
+            const std::string& n = l.name;
+            const bool inv = n.size() > 4 && n.compare(n.size() - 4, 4, ":inv") == 0;
+            line_of[i] = lines.emplace(inv ? n.substr(0, n.size() - 4) : n, static_cast<uint32_t>(lines.size())).first->second;
+            auto both = [&](LaneId other) {
+                if (other < 0 || static_cast<size_t>(other) >= lanes.size()) return;
+                exempt[i].push_back(static_cast<uint32_t>(other));
+                exempt[static_cast<size_t>(other)].push_back(static_cast<uint32_t>(i));
+            };
+            both(l.left);
+            both(l.right);
+            for (const LaneId s : l.successors) both(s);
+            for (const LaneId p : l.predecessors) both(p);
+        }
+        for (auto& e : exempt) {
+            std::sort(e.begin(), e.end());
+            e.erase(std::unique(e.begin(), e.end()), e.end());
+        }
+    }
+    auto may_meet = [&](uint32_t a, uint32_t b) {
+        return line_of[a] != line_of[b] && !std::binary_search(exempt[a].begin(), exempt[a].end(), b);
     };
     // Only segments that share a cell of the grid are tested: linear in the map's size, where
     // testing every pair of lanes segment by segment took minutes on a small map of long
@@ -457,46 +478,113 @@ void mark_junctions(RoadNetwork& net) {
     SegmentGrid grid(SegmentGrid::cell_for(longest));
     for (const auto& l : lanes) grid.add(l.centre, static_cast<uint32_t>(l.id));
     std::vector<char> in(lanes.size(), 0);
-    // In each cell, the segments swept by the left edge of their boxes (widened by the grid's
-    // slack, so that segments that meet have boxes that touch): only segments of two lanes whose
-    // boxes overlap are tested, so a cell's work is the number of such pairs, not every pair of
-    // its lanes' segments (fuzz finding 20; the limits of crowded_place bound both).
-    struct Box {
-        double x0, y0, x1, y1;
+    // In each cell: the pairs of its lanes that are still open (not both marked yet, and allowed
+    // to meet); then the segments of lanes with an open pair, swept across the cell's main
+    // direction by their extents, widened by the grid's slack so that segments that meet have
+    // extents that overlap. Only segments of an open pair whose extents overlap both across and
+    // along that direction are tested, so lanes that run side by side along a cell, however
+    // close, are not paired segment by segment; and two segments that both lie along the
+    // direction (to within 1e-6 of their length) and overlap across it lie on each other, within
+    // a few µm: no crossing (as `meet` says of parallel segments), so they are not paired at all:
+    // lanelets stacked on the same ways (fuzz finding 21). The limits of crowded_place bound what
+    // is left.
+    struct Run {
+        uint32_t lane, begin, end;  // a lane's segments in the cell: segs[begin, end)
+        bool live;                  // in an open pair
     };
-    std::vector<Box> box;
-    std::vector<uint32_t> order;
+    struct Item {
+        double n0, n1, d0, d1;  // extents across and along the cell's direction
+        uint32_t seg, run;
+    };
+    std::vector<Run> runs;
+    std::vector<char> open;
+    std::vector<Item> slanted, flat;  // segments across the direction, and along it
+    constexpr double kFlat = 1e-6;    // the sine of the angle within which a segment lies along it
     const double widen = grid.widen();
-    for (const auto& [key, segs] : grid.cells()) {
-        box.clear();
-        order.clear();
-        for (size_t u = 0; u < segs.size(); ++u) {
-            const auto& c = lanes[segs[u].line].centre;
-            const Vec2 p = c[segs[u].k], q = c[segs[u].k + 1];
-            box.push_back({std::min(p.x, q.x) - widen, std::min(p.y, q.y) - widen, std::max(p.x, q.x) + widen,
-                           std::max(p.y, q.y) + widen});
-            order.push_back(static_cast<uint32_t>(u));
+    size_t examined = 0;  // the marks do not depend on the order of the cells; this count does
+    for (const auto& cell : grid.cells()) {
+        const uint64_t key = cell.first;  // not a structured binding: the lambda below captures it
+        const std::vector<Seg>& segs = cell.second;
+        runs.clear();
+        for (uint32_t u = 0, v = 0; u < segs.size(); u = v) {
+            while (v < segs.size() && segs[v].line == segs[u].line) ++v;
+            runs.push_back({segs[u].line, u, v, false});
         }
-        std::sort(order.begin(), order.end(), [&](uint32_t u, uint32_t v) { return box[u].x0 < box[v].x0; });
-        for (size_t a = 0; a < order.size(); ++a) {
-            const Seg& su = segs[order[a]];
-            const Box& bu = box[order[a]];
-            for (size_t b = a + 1; b < order.size() && box[order[b]].x0 <= bu.x1; ++b) {
-                const Seg& sv = segs[order[b]];
-                const Box& bv = box[order[b]];
-                if (su.line == sv.line || bv.y0 > bu.y1 || bu.y0 > bv.y1) continue;
-                if ((in[su.line] && in[sv.line]) || !su.first_shared_cell(sv, key)) continue;
-                const Lane& l = lanes[su.line];
-                const Lane& m = lanes[sv.line];
-                if (!meet(l.centre[su.k], l.centre[su.k + 1], m.centre[sv.k], m.centre[sv.k + 1])) continue;
-                if (related(l, m.id) || related(m, l.id) || same_line(l, m)) continue;
-                in[su.line] = in[sv.line] = 1;
+        const size_t n = runs.size();
+        if (n < 2) continue;
+        open.assign(n * n, 0);
+        bool any = false;
+        for (size_t i = 0; i < n; ++i) {
+            for (size_t j = i + 1; j < n; ++j) {
+                const uint32_t a = runs[i].lane, b = runs[j].lane;
+                if ((in[a] && in[b]) || !may_meet(a, b)) continue;
+                open[i * n + j] = open[j * n + i] = 1;
+                runs[i].live = runs[j].live = any = true;
             }
+        }
+        if (!any) continue;
+        // The cell's main direction: the doubled-angle mean of its live segments, weighted by
+        // their length squared (a sum of (dx² - dy², 2 dx dy)), so that opposite directions agree.
+        double c2 = 0, s2 = 0;
+        for (const Run& r : runs) {
+            if (!r.live) continue;
+            const auto& c = lanes[r.lane].centre;
+            for (uint32_t u = r.begin; u < r.end; ++u) {
+                const Vec2 d = c[segs[u].k + 1] - c[segs[u].k];
+                c2 += d.x * d.x - d.y * d.y;
+                s2 += 2 * d.x * d.y;
+            }
+        }
+        const double angle = 0.5 * std::atan2(s2, c2);
+        const Vec2 along{std::cos(angle), std::sin(angle)}, across{-along.y, along.x};
+        slanted.clear();
+        flat.clear();
+        for (uint32_t i = 0; i < n; ++i) {
+            const Run& r = runs[i];
+            if (!r.live) continue;
+            const auto& c = lanes[r.lane].centre;
+            for (uint32_t u = r.begin; u < r.end; ++u) {
+                const Vec2 p = c[segs[u].k], q = c[segs[u].k + 1];
+                const double np = dot(p, across), nq = dot(q, across), dp = dot(p, along), dq = dot(q, along);
+                const Item item{std::min(np, nq) - widen, std::max(np, nq) + widen, std::min(dp, dq) - widen,
+                                std::max(dp, dq) + widen, u, i};
+                (std::fabs(np - nq) <= kFlat * std::fabs(dp - dq) ? flat : slanted).push_back(item);
+            }
+        }
+        auto by_start = [](const Item& a, const Item& b) { return a.n0 < b.n0; };
+        std::sort(slanted.begin(), slanted.end(), by_start);
+        std::sort(flat.begin(), flat.end(), by_start);
+        auto test = [&](const Item& a, const Item& b) {
+            ++examined;
+            if (!open[a.run * n + b.run] || b.d0 > a.d1 || a.d0 > b.d1) return;
+            const Seg& su = segs[a.seg];
+            const Seg& sv = segs[b.seg];
+            if ((in[su.line] && in[sv.line]) || !su.first_shared_cell(sv, key)) return;
+            const auto& l = lanes[su.line].centre;
+            const auto& m = lanes[sv.line].centre;
+            if (meet(l[su.k], l[su.k + 1], m[sv.k], m[sv.k + 1])) in[su.line] = in[sv.line] = 1;
+        };
+        // Pairs of slanted segments whose extents across overlap, each once: from the one that
+        // starts first (or first in order).
+        for (size_t a = 0; a < slanted.size(); ++a)
+            for (size_t b = a + 1; b < slanted.size() && slanted[b].n0 <= slanted[a].n1; ++b) test(slanted[a], slanted[b]);
+        // Pairs of a slanted and a flat segment: the flat one starts within the slanted one's
+        // extent, or before it and reaches into it.
+        size_t f = 0;
+        for (const Item& s : slanted) {
+            while (f < flat.size() && flat[f].n0 < s.n0) ++f;
+            for (size_t g = f; g < flat.size() && flat[g].n0 <= s.n1; ++g) test(s, flat[g]);
+        }
+        size_t t = 0;
+        for (const Item& fl : flat) {
+            while (t < slanted.size() && slanted[t].n0 <= fl.n0) ++t;
+            for (size_t g = t; g < slanted.size() && slanted[g].n0 <= fl.n1; ++g) test(slanted[g], fl);
         }
     }
     for (size_t i = 0; i < lanes.size(); ++i) {
         if (in[i]) net.lane_mut(static_cast<LaneId>(i)).in_junction = true;
     }
+    return examined;
 }
 
 }  // namespace sdv::road

@@ -160,8 +160,10 @@ void find_crossings(RoadNetwork& net);
 // Marks the lanes of junctions in a network that does not say where its junctions are (a
 // Lanelet2 map): a lane is in a junction when its centre line crosses or touches another's that
 // is neither its successor, its predecessor nor its neighbour, as the lanes of an intersection
-// cross, merge and diverge (Lanelet2's conflicting lanelets).
-void mark_junctions(RoadNetwork& net);
+// cross, merge and diverge (Lanelet2's conflicting lanelets). Lanes that lie on each other
+// (parallel within 1e-6 and a few µm apart) touch along a line, which is no meeting. Returns the
+// pairs of segments it examined: its work, which tests bound by the map's size.
+size_t mark_junctions(RoadNetwork& net);
 
 // Polyline helpers.
 double polyline_length(const std::vector<Vec2>& pts);
