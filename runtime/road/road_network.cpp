@@ -310,6 +310,78 @@ private:
     std::unordered_map<uint64_t, std::vector<Seg>> cells_;
 };
 
+// A segment in the sweep of one cell of the grid: its extents across and along the cell's main
+// direction, widened by the grid's slack (two segments that meet have extents that overlap in
+// both), the segment's index in the cell and the index of its line in the caller's list.
+struct Extent {
+    double n0, n1, d0, d1;
+    uint32_t seg, run;
+};
+
+// The sine of the angle within which a segment lies along a cell's direction. Two such segments
+// whose extents across overlap lie on each other (within a few µm): no crossing, as `meet` says
+// of parallel segments, so the sweeps never pair them: lanelets stacked on the same ways, or
+// crosswalks drawn along lanes, would otherwise be tested piece against piece along their whole
+// length (fuzz findings 21 and 22).
+constexpr double kAlong = 1e-6;
+
+// A cell's frame: its main direction, the doubled-angle mean of the segments added (weighted by
+// their length squared: a sum of (dx² - dy², 2 dx dy), so that opposite directions agree), and
+// the segments' extents in it, split into those across the direction and those along it, each
+// sorted by where it starts across. Lanes that run side by side along a cell, however close, do
+// not overlap across it and are never paired.
+class CellSweep {
+public:
+    void clear() { c2_ = s2_ = 0; }
+    void add_direction(Vec2 d) {
+        c2_ += d.x * d.x - d.y * d.y;
+        s2_ += 2 * d.x * d.y;
+    }
+    void fix_frame() {
+        const double angle = 0.5 * std::atan2(s2_, c2_);
+        along_ = {std::cos(angle), std::sin(angle)};
+        across_ = {-along_.y, along_.x};
+    }
+    // Adds p→q to `slanted` or `flat` (call after fix_frame; sort both with `sort` before sweeping).
+    void add(Vec2 p, Vec2 q, double widen, uint32_t seg, uint32_t run, std::vector<Extent>& slanted, std::vector<Extent>& flat) const {
+        const double np = dot(p, across_), nq = dot(q, across_), dp = dot(p, along_), dq = dot(q, along_);
+        const Extent e{std::min(np, nq) - widen, std::max(np, nq) + widen, std::min(dp, dq) - widen, std::max(dp, dq) + widen, seg, run};
+        (std::fabs(np - nq) <= kAlong * std::fabs(dp - dq) ? flat : slanted).push_back(e);
+    }
+    static void sort(std::vector<Extent>& v) {
+        std::sort(v.begin(), v.end(), [](const Extent& a, const Extent& b) { return a.n0 < b.n0; });
+    }
+
+private:
+    double c2_ = 0, s2_ = 0;
+    Vec2 along_{1, 0}, across_{0, 1};
+};
+
+bool overlap_along(const Extent& a, const Extent& b) { return a.d0 <= b.d1 && b.d0 <= a.d1; }
+
+// Every pair of `v` (sorted) whose extents across overlap, once: from the one that starts first.
+template <class F>
+void pairs_within(const std::vector<Extent>& v, F&& f) {
+    for (size_t a = 0; a < v.size(); ++a)
+        for (size_t b = a + 1; b < v.size() && v[b].n0 <= v[a].n1; ++b) f(v[a], v[b]);
+}
+
+// Every pair (a of `as`, b of `bs`, both sorted) whose extents across overlap, once: b starts
+// within a's extent, or before it and reaches into it.
+template <class F>
+void pairs_between(const std::vector<Extent>& as, const std::vector<Extent>& bs, F&& f) {
+    size_t j = 0;
+    for (const Extent& a : as) {
+        while (j < bs.size() && bs[j].n0 < a.n0) ++j;
+        for (size_t g = j; g < bs.size() && bs[g].n0 <= a.n1; ++g) f(a, bs[g]);
+    }
+    size_t i = 0;
+    for (const Extent& b : bs) {
+        while (i < as.size() && as[i].n0 <= b.n0) ++i;
+        for (size_t g = i; g < as.size() && as[g].n0 <= b.n1; ++g) f(as[g], b);
+    }
+}
+
 struct Hit {
     double s_poly;  // along the lane's polyline
     Vec2 p;
@@ -317,8 +389,8 @@ struct Hit {
 };
 
 // Where the crosswalk's centre line meets the lane's, given the pairs of segments (lane
-// segment, crosswalk segment) whose cells are shared, in order: in order along the lane, one
-// hit per place.
+// segment, crosswalk segment) that may meet, in order: in order along the lane, one hit per
+// place.
 std::vector<Hit> hits(const Crosswalk& cw, const Lane& lane, const std::vector<std::pair<uint32_t, uint32_t>>& pairs) {
     constexpr double kSamePlace = 1e-6;  // m: one crossing found in two segments
     const auto& c = lane.centre;
@@ -398,34 +470,73 @@ std::optional<std::string> crowded_place(const RoadNetwork& net) {
            (lines.most_n > kFoldedSegments ? "does the lanelet fold back on itself?)" : "are lanelets stacked on each other?)");
 }
 
-void find_crossings(RoadNetwork& net) {
+size_t find_crossings(RoadNetwork& net) {
     const auto& lanes = net.lanes();
     double longest = 0;
     for (const auto& l : lanes) longest = std::max(longest, SegmentGrid::longest_segment(l.centre));
     for (const auto& c : net.crosswalks) longest = std::max(longest, SegmentGrid::longest_segment(c.centre));
     SegmentGrid grid(SegmentGrid::cell_for(longest));
-    if (!net.crosswalks.empty())
+    // Lanes and then crosswalks in one grid (crosswalk i is line first_walk + i): in each cell
+    // shared by both, the pairs of a lane's segment and a crosswalk's whose extents overlap in
+    // the cell's frame are tested, in the first cell they share.
+    const auto first_walk = static_cast<uint32_t>(lanes.size());
+    if (!net.crosswalks.empty()) {
         for (const auto& l : lanes) grid.add(l.centre, static_cast<uint32_t>(l.id));
+        for (size_t i = 0; i < net.crosswalks.size(); ++i) grid.add(net.crosswalks[i].centre, first_walk + static_cast<uint32_t>(i));
+    }
     struct Pair {
-        uint32_t lane, li, k;  // a lane, its segment li and the crosswalk's segment k
-        bool operator<(const Pair& o) const { return std::tie(lane, li, k) < std::tie(o.lane, o.li, o.k); }
+        uint32_t walk, lane, li, k;  // a crosswalk, a lane, the lane's segment li and the crosswalk's k, which meet
+        bool operator<(const Pair& o) const { return std::tie(walk, lane, li, k) < std::tie(o.walk, o.lane, o.li, o.k); }
     };
     std::vector<Pair> pairs;
+    CellSweep sweep;
+    std::vector<Extent> lane_slanted, lane_flat, walk_slanted, walk_flat;
+    const double widen = grid.widen();
+    size_t examined = 0;
+    auto points = [&](uint32_t line) -> const std::vector<Vec2>& {
+        return line < first_walk ? lanes[line].centre : net.crosswalks[line - first_walk].centre;
+    };
+    for (const auto& cell : grid.cells()) {
+        const uint64_t key = cell.first;
+        const std::vector<Seg>& segs = cell.second;
+        // Lanes' segments come first in a cell (added first).
+        if (segs.front().line >= first_walk || segs.back().line < first_walk) continue;
+        sweep.clear();
+        for (const Seg& sg : segs) sweep.add_direction(points(sg.line)[sg.k + 1] - points(sg.line)[sg.k]);
+        sweep.fix_frame();
+        lane_slanted.clear(), lane_flat.clear(), walk_slanted.clear(), walk_flat.clear();
+        for (uint32_t u = 0; u < segs.size(); ++u) {
+            const auto& c = points(segs[u].line);
+            const bool walk = segs[u].line >= first_walk;
+            sweep.add(c[segs[u].k], c[segs[u].k + 1], widen, u, 0, walk ? walk_slanted : lane_slanted, walk ? walk_flat : lane_flat);
+        }
+        for (auto* v : {&lane_slanted, &lane_flat, &walk_slanted, &walk_flat}) CellSweep::sort(*v);
+        auto test = [&](const Extent& l, const Extent& w) {
+            ++examined;
+            if (!overlap_along(l, w)) return;
+            const Seg& sl = segs[l.seg];
+            const Seg& sw = segs[w.seg];
+            if (!sl.first_shared_cell(sw, key)) return;
+            const auto& c = lanes[sl.line].centre;
+            const auto& x = net.crosswalks[sw.line - first_walk].centre;
+            if (meet(c[sl.k], c[sl.k + 1], x[sw.k], x[sw.k + 1])) pairs.push_back({sw.line - first_walk, sl.line, sl.k, sw.k});
+        };
+        pairs_between(lane_slanted, walk_slanted, test);
+        pairs_between(lane_slanted, walk_flat, test);
+        pairs_between(lane_flat, walk_slanted, test);
+    }
+    std::sort(pairs.begin(), pairs.end());
     std::vector<std::pair<uint32_t, uint32_t>> of_lane;
+    size_t from = 0;
     for (size_t i = 0; i < net.crosswalks.size(); ++i) {
         Crosswalk& cw = net.crosswalks[i];
         cw.id = static_cast<int32_t>(i);
         cw.length = polyline_length(cw.centre);
         cw.crossings.clear();
-        // The segments of lanes that share a cell with one of the crosswalk's, by lane and along it.
-        pairs.clear();
-        for (size_t k = 0; k + 1 < cw.centre.size(); ++k)
-            grid.near(cw.centre[k], cw.centre[k + 1], [&](const Seg& s) { pairs.push_back({s.line, s.k, static_cast<uint32_t>(k)}); });
-        std::sort(pairs.begin(), pairs.end());
-        for (size_t from = 0; from < pairs.size();) {
+        while (from < pairs.size() && pairs[from].walk == i) {
             const uint32_t lane = pairs[from].lane;
             of_lane.clear();
-            for (; from < pairs.size() && pairs[from].lane == lane; ++from) of_lane.emplace_back(pairs[from].li, pairs[from].k);
+            for (; from < pairs.size() && pairs[from].walk == i && pairs[from].lane == lane; ++from) of_lane.emplace_back(pairs[from].li, pairs[from].k);
             const Lane& l = lanes[lane];
             for (const Hit& h : hits(cw, l, of_lane)) {
                 // The s of the lane's reference line (what stop lines and agents use), sought
@@ -436,6 +547,7 @@ void find_crossings(RoadNetwork& net) {
             }
         }
     }
+    return examined;
 }
 
 size_t mark_junctions(RoadNetwork& net) {
@@ -479,27 +591,17 @@ size_t mark_junctions(RoadNetwork& net) {
     for (const auto& l : lanes) grid.add(l.centre, static_cast<uint32_t>(l.id));
     std::vector<char> in(lanes.size(), 0);
     // In each cell: the pairs of its lanes that are still open (not both marked yet, and allowed
-    // to meet); then the segments of lanes with an open pair, swept across the cell's main
-    // direction by their extents, widened by the grid's slack so that segments that meet have
-    // extents that overlap. Only segments of an open pair whose extents overlap both across and
-    // along that direction are tested, so lanes that run side by side along a cell, however
-    // close, are not paired segment by segment; and two segments that both lie along the
-    // direction (to within 1e-6 of their length) and overlap across it lie on each other, within
-    // a few µm: no crossing (as `meet` says of parallel segments), so they are not paired at all:
-    // lanelets stacked on the same ways (fuzz finding 21). The limits of crowded_place bound what
-    // is left.
+    // to meet); then the segments of lanes with an open pair in the cell's frame (CellSweep):
+    // only segments of an open pair whose extents overlap across and along its direction are
+    // tested, and never two that lie along it.
     struct Run {
         uint32_t lane, begin, end;  // a lane's segments in the cell: segs[begin, end)
         bool live;                  // in an open pair
     };
-    struct Item {
-        double n0, n1, d0, d1;  // extents across and along the cell's direction
-        uint32_t seg, run;
-    };
     std::vector<Run> runs;
     std::vector<char> open;
-    std::vector<Item> slanted, flat;  // segments across the direction, and along it
-    constexpr double kFlat = 1e-6;    // the sine of the angle within which a segment lies along it
+    CellSweep sweep;
+    std::vector<Extent> slanted, flat;
     const double widen = grid.widen();
     size_t examined = 0;  // the marks do not depend on the order of the cells; this count does
     for (const auto& cell : grid.cells()) {
@@ -523,40 +625,24 @@ size_t mark_junctions(RoadNetwork& net) {
             }
         }
         if (!any) continue;
-        // The cell's main direction: the doubled-angle mean of its live segments, weighted by
-        // their length squared (a sum of (dx² - dy², 2 dx dy)), so that opposite directions agree.
-        double c2 = 0, s2 = 0;
+        sweep.clear();
         for (const Run& r : runs) {
-            if (!r.live) continue;
             const auto& c = lanes[r.lane].centre;
-            for (uint32_t u = r.begin; u < r.end; ++u) {
-                const Vec2 d = c[segs[u].k + 1] - c[segs[u].k];
-                c2 += d.x * d.x - d.y * d.y;
-                s2 += 2 * d.x * d.y;
-            }
+            for (uint32_t u = r.begin; r.live && u < r.end; ++u) sweep.add_direction(c[segs[u].k + 1] - c[segs[u].k]);
         }
-        const double angle = 0.5 * std::atan2(s2, c2);
-        const Vec2 along{std::cos(angle), std::sin(angle)}, across{-along.y, along.x};
+        sweep.fix_frame();
         slanted.clear();
         flat.clear();
         for (uint32_t i = 0; i < n; ++i) {
-            const Run& r = runs[i];
-            if (!r.live) continue;
-            const auto& c = lanes[r.lane].centre;
-            for (uint32_t u = r.begin; u < r.end; ++u) {
-                const Vec2 p = c[segs[u].k], q = c[segs[u].k + 1];
-                const double np = dot(p, across), nq = dot(q, across), dp = dot(p, along), dq = dot(q, along);
-                const Item item{std::min(np, nq) - widen, std::max(np, nq) + widen, std::min(dp, dq) - widen,
-                                std::max(dp, dq) + widen, u, i};
-                (std::fabs(np - nq) <= kFlat * std::fabs(dp - dq) ? flat : slanted).push_back(item);
-            }
+            const auto& c = lanes[runs[i].lane].centre;
+            for (uint32_t u = runs[i].begin; runs[i].live && u < runs[i].end; ++u)
+                sweep.add(c[segs[u].k], c[segs[u].k + 1], widen, u, i, slanted, flat);
         }
-        auto by_start = [](const Item& a, const Item& b) { return a.n0 < b.n0; };
-        std::sort(slanted.begin(), slanted.end(), by_start);
-        std::sort(flat.begin(), flat.end(), by_start);
-        auto test = [&](const Item& a, const Item& b) {
+        CellSweep::sort(slanted);
+        CellSweep::sort(flat);
+        auto test = [&](const Extent& a, const Extent& b) {
             ++examined;
-            if (!open[a.run * n + b.run] || b.d0 > a.d1 || a.d0 > b.d1) return;
+            if (!open[a.run * n + b.run] || !overlap_along(a, b)) return;
             const Seg& su = segs[a.seg];
             const Seg& sv = segs[b.seg];
             if ((in[su.line] && in[sv.line]) || !su.first_shared_cell(sv, key)) return;
@@ -564,22 +650,8 @@ size_t mark_junctions(RoadNetwork& net) {
             const auto& m = lanes[sv.line].centre;
             if (meet(l[su.k], l[su.k + 1], m[sv.k], m[sv.k + 1])) in[su.line] = in[sv.line] = 1;
         };
-        // Pairs of slanted segments whose extents across overlap, each once: from the one that
-        // starts first (or first in order).
-        for (size_t a = 0; a < slanted.size(); ++a)
-            for (size_t b = a + 1; b < slanted.size() && slanted[b].n0 <= slanted[a].n1; ++b) test(slanted[a], slanted[b]);
-        // Pairs of a slanted and a flat segment: the flat one starts within the slanted one's
-        // extent, or before it and reaches into it.
-        size_t f = 0;
-        for (const Item& s : slanted) {
-            while (f < flat.size() && flat[f].n0 < s.n0) ++f;
-            for (size_t g = f; g < flat.size() && flat[g].n0 <= s.n1; ++g) test(s, flat[g]);
-        }
-        size_t t = 0;
-        for (const Item& fl : flat) {
-            while (t < slanted.size() && slanted[t].n0 <= fl.n0) ++t;
-            for (size_t g = t; g < slanted.size() && slanted[g].n0 <= fl.n1; ++g) test(slanted[g], fl);
-        }
+        pairs_within(slanted, test);
+        pairs_between(slanted, flat, test);
     }
     for (size_t i = 0; i < lanes.size(); ++i) {
         if (in[i]) net.lane_mut(static_cast<LaneId>(i)).in_junction = true;

@@ -154,8 +154,10 @@ private:
 std::optional<std::string> crowded_place(const RoadNetwork& net);
 
 // Fills every crosswalk's `length` and `crossings` from its centre line and the lanes (call
-// once lanes and crosswalks are complete, before prepare()).
-void find_crossings(RoadNetwork& net);
+// once lanes and crosswalks are complete, before prepare()). A crosswalk that lies on a lane
+// (parallel within 1e-6 and a few µm away) does not cross it there. Returns the pairs of segments
+// it examined: its work, which tests bound by the map's size.
+size_t find_crossings(RoadNetwork& net);
 
 // Marks the lanes of junctions in a network that does not say where its junctions are (a
 // Lanelet2 map): a lane is in a junction when its centre line crosses or touches another's that

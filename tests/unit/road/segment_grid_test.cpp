@@ -334,3 +334,59 @@ TEST_CASE("mark_junctions marks a lane ending on stacked straight lanes, and all
         for (const auto& l : net.lanes()) CHECK_MESSAGE(l.in_junction, l.name);
     }
 }
+
+// Crosswalks drawn along lanes, on them or beside them, never cross them and are never paired
+// with them segment by segment: 8 lanes and 8 crosswalks on the same line along 6 km took 0.5 s
+// in a release build, about 10 s under ASan, sorting millions of pairs (fuzz finding 22).
+// Property: straight lanes and crosswalks sampled every 0.5 m, on each other or 0.1 µm to 1 m
+// apart, at any angle and place: no pair examined, no crossing; and a crosswalk across them all
+// crosses each lane once, at the middle, examining a bounded number of pairs.
+TEST_CASE("find_crossings examines no pair of a crosswalk along a lane, and finds one across them") {
+    std::mt19937_64 rng(24);
+    std::uniform_real_distribution<double> u(0, 1);
+    const double gaps[] = {0, 1e-7, 1e-3, 0.1, 1};
+    for (int round = 0; round < 60; ++round) {
+        CAPTURE(round);
+        const double angle = 2 * M_PI * u(rng), length = 20 + 200 * u(rng), gap = gaps[rng() % 5];
+        const Vec2 origin{2e6 * (u(rng) - 0.5), 2e6 * (u(rng) - 0.5)};
+        const Vec2 along{std::cos(angle), std::sin(angle)}, across{-along.y, along.x};
+        CAPTURE(angle);
+        CAPTURE(gap);
+        const auto pieces = static_cast<size_t>(length / 0.5);
+        auto line = [&](size_t i) {
+            std::vector<Vec2> pts;
+            for (size_t k = 0; k <= pieces; ++k) pts.push_back(origin + (0.5 * static_cast<double>(k)) * along + (gap * static_cast<double>(i)) * across);
+            return pts;
+        };
+        RoadNetwork net;
+        const size_t lanes = 1 + rng() % 8, walks = 1 + rng() % 8;
+        for (size_t i = 0; i < lanes; ++i) {
+            Lane l;
+            l.name = "l" + std::to_string(i);
+            l.centre = line(i);
+            net.add_lane(l);
+        }
+        for (size_t i = 0; i < walks; ++i) {
+            Crosswalk cw;
+            cw.centre = line(lanes + i);
+            net.crosswalks.push_back(cw);
+        }
+        CHECK(find_crossings(net) == 0);
+        for (const auto& cw : net.crosswalks) CHECK(cw.crossings.empty());
+        // A crosswalk across them all in the middle, between two of the lanes' points.
+        Crosswalk over;
+        const Vec2 mid = origin + (0.5 * static_cast<double>(pieces / 2) + 0.25) * along;
+        const double reach = 2 + gap * static_cast<double>(lanes + walks);
+        for (double d = -2; d <= reach; d += 0.5) over.centre.push_back(mid + d * across);
+        net.crosswalks.push_back(over);
+        const size_t examined = find_crossings(net);
+        CHECK(examined > 0);
+        CHECK(examined <= 16 * (lanes + walks) * over.centre.size());
+        const auto& found = net.crosswalks.back().crossings;
+        REQUIRE(found.size() == lanes);
+        for (size_t i = 0; i < lanes; ++i) {
+            CHECK(found[i].lane == static_cast<LaneId>(i));
+            CHECK(found[i].s == doctest::Approx(0.5 * static_cast<double>(pieces / 2) + 0.25).epsilon(1e-6));
+        }
+    }
+}
