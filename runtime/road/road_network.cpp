@@ -326,10 +326,10 @@ struct Extent {
 constexpr double kAlong = 1e-6;
 
 // A cell's frame: its main direction, the doubled-angle mean of the segments added (weighted by
-// their length squared: a sum of (dx² - dy², 2 dx dy), so that opposite directions agree), and
-// the segments' extents in it, split into those across the direction and those along it, each
-// sorted by where it starts across. Lanes that run side by side along a cell, however close, do
-// not overlap across it and are never paired.
+// their length squared: a sum of (dx² - dy², 2 dx dy), so that opposite directions agree); and
+// the segments' extents in it, put in two lists, those slanted to the direction and those along
+// it, each sorted by where it starts across. Lanes that run side by side along a cell, however
+// close, do not overlap across it and are never paired.
 class CellSweep {
 public:
     void clear() { c2_ = s2_ = 0; }
