@@ -51,26 +51,63 @@ void add_random_lanes(RoadNetwork& net, std::mt19937_64& rng, size_t count, size
     }
 }
 
-// Whether a lane's centre line meets another's, by testing every pair of their segments with
-// `meets`: what mark_junctions must have marked (the lanes have no relations). Checks each lane
-// and returns how many are marked.
-template <class Meets>
-size_t check_marks_against_every_pair(const RoadNetwork& net, Meets&& meets) {
+// Whether a lane's centre line meets that of another it `may_meet`, by testing every pair of
+// their segments with `meets`: what mark_junctions must have marked. Checks each lane; counts
+// the lanes marked and those spared (meeting only lanes they may meet).
+struct Marks {
+    size_t marked = 0, spared = 0;
+};
+template <class Meets, class MayMeet>
+Marks check_marks_against_every_pair(const RoadNetwork& net, Meets&& meets, MayMeet&& may_meet) {
     const auto& all = net.lanes();
-    size_t marked = 0;
+    Marks marks;
     for (size_t i = 0; i < all.size(); ++i) {
-        bool want = false;
+        bool want = false, touches = false;
         for (size_t j = 0; j < all.size() && !want; ++j) {
             if (i == j) continue;
             const auto& a = all[i].centre;
             const auto& b = all[j].centre;
-            for (size_t p = 0; p + 1 < a.size() && !want; ++p)
-                for (size_t q = 0; q + 1 < b.size() && !want; ++q) want = meets(a[p], a[p + 1], b[q], b[q + 1]);
+            bool met = false;
+            for (size_t p = 0; p + 1 < a.size() && !met; ++p)
+                for (size_t q = 0; q + 1 < b.size() && !met; ++q) met = meets(a[p], a[p + 1], b[q], b[q + 1]);
+            touches = touches || met;
+            want = met && may_meet(all[i], all[j]);
         }
         CHECK_MESSAGE(all[i].in_junction == want, all[i].name);
-        marked += want;
+        marks.marked += want;
+        marks.spared += touches && !want;
     }
-    return marked;
+    return marks;
+}
+template <class Meets>
+size_t check_marks_against_every_pair(const RoadNetwork& net, Meets&& meets) {
+    return check_marks_against_every_pair(net, meets, [](const Lane&, const Lane&) { return true; }).marked;
+}
+
+// A walk on the 0.5 m lattice inside [0, box]²: 2 to `max_points` points, steps of 0.5 m along,
+// across or diagonal to the axes.
+std::vector<Vec2> lattice_walk(std::mt19937_64& rng, double box, size_t max_points) {
+    const auto nodes = static_cast<uint64_t>(2 * box) + 1;
+    Vec2 p{0.5 * static_cast<double>(rng() % nodes), 0.5 * static_cast<double>(rng() % nodes)};
+    std::vector<Vec2> pts{p};
+    const size_t points = 2 + rng() % (max_points - 1);
+    while (pts.size() < points) {
+        const Vec2 step{0.5 * (static_cast<double>(rng() % 3) - 1), 0.5 * (static_cast<double>(rng() % 3) - 1)};
+        const Vec2 q = p + step;
+        if ((step.x == 0 && step.y == 0) || q.x < 0 || q.y < 0 || q.x > box || q.y > box) continue;
+        pts.push_back(p = q);
+    }
+    return pts;
+}
+
+// Whether two segments of the lattice meet, exactly: they are not parallel and each reaches the
+// other's line within its ends.
+bool touch(Vec2 a0, Vec2 a1, Vec2 b0, Vec2 b1) {
+    const Vec2 r = a1 - a0, s = b1 - b0;
+    double den = cross(r, s), tn = cross(b0 - a0, s), un = cross(b0 - a0, r);
+    if (den == 0) return false;
+    if (den < 0) den = -den, tn = -tn, un = -un;
+    return tn >= 0 && tn <= den && un >= 0 && un <= den;
 }
 
 }  // namespace
@@ -147,13 +184,6 @@ TEST_CASE("mark_junctions marks exactly the lanes that testing every pair of seg
 // parallel and each reaches the other's line within its ends.
 TEST_CASE("mark_junctions marks exactly the lanes that testing every pair finds, on lanes that touch") {
     std::mt19937_64 rng(20);
-    auto touch = [](Vec2 a0, Vec2 a1, Vec2 b0, Vec2 b1) {
-        const Vec2 r = a1 - a0, s = b1 - b0;
-        double den = cross(r, s), tn = cross(b0 - a0, s), un = cross(b0 - a0, r);
-        if (den == 0) return false;
-        if (den < 0) den = -den, tn = -tn, un = -un;
-        return tn >= 0 && tn <= den && un >= 0 && un <= den;
-    };
     size_t marked = 0, unmarked = 0;
     for (int round = 0; round < 200; ++round) {
         CAPTURE(round);
@@ -162,16 +192,7 @@ TEST_CASE("mark_junctions marks exactly the lanes that testing every pair finds,
         for (size_t i = 0; i < count; ++i) {
             Lane l;
             l.name = "l" + std::to_string(i);
-            // A walk of 2 to 24 points, steps of 0.5 m along or across the axes, inside the box.
-            Vec2 p{0.5 * static_cast<double>(rng() % 25), 0.5 * static_cast<double>(rng() % 25)};
-            l.centre.push_back(p);
-            const size_t points = 2 + rng() % 23;
-            while (l.centre.size() < points) {
-                const Vec2 step{0.5 * (static_cast<double>(rng() % 3) - 1), 0.5 * (static_cast<double>(rng() % 3) - 1)};
-                const Vec2 q = p + step;
-                if ((step.x == 0 && step.y == 0) || q.x < 0 || q.y < 0 || q.x > 12 || q.y > 12) continue;
-                l.centre.push_back(p = q);
-            }
+            l.centre = lattice_walk(rng, 12, 24);
             net.add_lane(l);
         }
         mark_junctions(net);
@@ -189,14 +210,7 @@ TEST_CASE("mark_junctions marks exactly the lanes that testing every pair finds,
 // every pair of other lanes finds.
 TEST_CASE("mark_junctions leaves out exactly the lanes that may meet: neighbours, successors, predecessors, one lanelet's two") {
     std::mt19937_64 rng(21);
-    auto touch = [](Vec2 a0, Vec2 a1, Vec2 b0, Vec2 b1) {
-        const Vec2 r = a1 - a0, s = b1 - b0;
-        double den = cross(r, s), tn = cross(b0 - a0, s), un = cross(b0 - a0, r);
-        if (den == 0) return false;
-        if (den < 0) den = -den, tn = -tn, un = -un;
-        return tn >= 0 && tn <= den && un >= 0 && un <= den;
-    };
-    size_t marked = 0, spared = 0;
+    Marks total;
     for (int round = 0; round < 200; ++round) {
         CAPTURE(round);
         RoadNetwork net;
@@ -205,15 +219,7 @@ TEST_CASE("mark_junctions leaves out exactly the lanes that may meet: neighbours
             Lane l;
             // Every third lane after the first is the other direction of the lane before it.
             l.name = i > 0 && i % 3 == 0 ? net.lanes()[i - 1].name + ":inv" : "l" + std::to_string(i);
-            Vec2 p{0.5 * static_cast<double>(rng() % 17), 0.5 * static_cast<double>(rng() % 17)};
-            l.centre.push_back(p);
-            const size_t points = 2 + rng() % 16;
-            while (l.centre.size() < points) {
-                const Vec2 step{0.5 * (static_cast<double>(rng() % 3) - 1), 0.5 * (static_cast<double>(rng() % 3) - 1)};
-                const Vec2 q = p + step;
-                if ((step.x == 0 && step.y == 0) || q.x < 0 || q.y < 0 || q.x > 8 || q.y > 8) continue;
-                l.centre.push_back(p = q);
-            }
+            l.centre = lattice_walk(rng, 8, 17);
             net.add_lane(l);
         }
         // Random relations, each on one side only: mark_junctions must read them both ways.
@@ -237,26 +243,12 @@ TEST_CASE("mark_junctions leaves out exactly the lanes that may meet: neighbours
             return !relates(a, b.id) && !relates(b, a.id) && line(a.name) != line(b.name);
         };
         mark_junctions(net);
-        const auto& all = net.lanes();
-        for (size_t i = 0; i < all.size(); ++i) {
-            bool want = false, touches = false;
-            for (size_t j = 0; j < all.size() && !want; ++j) {
-                if (i == j) continue;
-                bool t = false;
-                const auto& a = all[i].centre;
-                const auto& b = all[j].centre;
-                for (size_t p = 0; p + 1 < a.size() && !t; ++p)
-                    for (size_t q = 0; q + 1 < b.size() && !t; ++q) t = touch(a[p], a[p + 1], b[q], b[q + 1]);
-                touches = touches || t;
-                want = t && may_meet(all[i], all[j]);
-            }
-            CHECK_MESSAGE(all[i].in_junction == want, all[i].name);
-            marked += want;
-            spared += touches && !want;
-        }
+        const Marks marks = check_marks_against_every_pair(net, touch, may_meet);
+        total.marked += marks.marked;
+        total.spared += marks.spared;
     }
-    CHECK(marked > 100);
-    CHECK(spared > 50);  // lanes that touch only lanes they may meet
+    CHECK(total.marked > 100);
+    CHECK(total.spared > 50);  // lanes that touch only lanes they may meet
 }
 
 // Lanes that lie on each other or run side by side along a cell, however close, are never
