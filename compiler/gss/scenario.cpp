@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -36,12 +37,22 @@ std::string fixed(double v, int digits) {
     return s;
 }
 
+// An identifier of the .sdv grammar from any text, in one pass: letters and digits lowered, every run
+// of other characters one `_`, none at either end.
 std::string ident(const std::string& raw, const std::string& fallback) {
     std::string s;
-    for (char c : raw) s += std::isalnum(static_cast<unsigned char>(c)) ? static_cast<char>(std::tolower(static_cast<unsigned char>(c))) : '_';
-    while (s.find("__") != std::string::npos) s.erase(s.find("__"), 1);
-    while (!s.empty() && s.back() == '_') s.pop_back();
-    while (!s.empty() && s.front() == '_') s.erase(0, 1);
+    s.reserve(raw.size());
+    bool gap = false;
+    for (char c : raw) {
+        const auto u = static_cast<unsigned char>(c);
+        if (!std::isalnum(u)) {
+            gap = true;
+            continue;
+        }
+        if (gap && !s.empty()) s += '_';
+        gap = false;
+        s += static_cast<char>(std::tolower(u));
+    }
     if (s.empty()) s = fallback;
     if (std::isdigit(static_cast<unsigned char>(s[0]))) s = fallback + "_" + s;
     return s;
@@ -993,14 +1004,20 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
         out << "    }\n";
     }
     std::set<std::string> object_names;
+    std::map<std::string, std::string> next_free;  // a taken name -> the name its next copy tries first
     for (const auto& o : sc->objects) {
         std::string name = ident(o.name, "object");
         // Vehicles are v<vid>, pedestrians p<pid>: keep objects out of those name spaces.
         const bool vehicle_like = name.size() > 1 && (name[0] == 'v' || name[0] == 'p') &&
                                   name.find_first_not_of("0123456789", 1) == std::string::npos;
         if (vehicle_like) name = "o_" + name;
+        // Copies of one name take `_`, `__`, ...; remembering where the last copy stopped keeps a
+        // file of many same-named objects linear.
+        const std::string base = name;
+        if (const auto it = next_free.find(base); it != next_free.end()) name = it->second;
         while (object_names.count(name)) name += "_";
         object_names.insert(name);
+        next_free[base] = name + "_";
         double length = o.length, width = o.width;
         std::string facing;
         if (o.area) {
