@@ -110,6 +110,36 @@ bool touch(Vec2 a0, Vec2 a1, Vec2 b0, Vec2 b1) {
     return tn >= 0 && tn <= den && un >= 0 && un <= den;
 }
 
+// Parallel straight lines sampled every 0.5 m, at a random angle, length (20-220 m) and place
+// within 1,000 km of the origin, `gap` apart (on each other, 0.1 µm, 1 mm, 10 cm or 1 m): line(i)
+// is the i-th, i gaps across from the first.
+struct StraightLines {
+    double angle = 0, length = 0, gap = 0;
+    Vec2 origin, along, across;
+    size_t pieces = 0;
+
+    std::vector<Vec2> line(size_t i) const {
+        std::vector<Vec2> pts;
+        for (size_t k = 0; k <= pieces; ++k) pts.push_back(origin + (0.5 * static_cast<double>(k)) * along + (gap * static_cast<double>(i)) * across);
+        return pts;
+    }
+};
+
+StraightLines straight_lines(std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> u(0, 1);
+    const double gaps[] = {0, 1e-7, 1e-3, 0.1, 1};
+    StraightLines s;
+    s.angle = 2 * M_PI * u(rng);
+    s.length = 20 + 200 * u(rng);
+    s.gap = gaps[rng() % 5];
+    const double x = 2e6 * (u(rng) - 0.5);
+    s.origin = {x, 2e6 * (u(rng) - 0.5)};
+    s.along = {std::cos(s.angle), std::sin(s.angle)};
+    s.across = {-s.along.y, s.along.x};
+    s.pieces = static_cast<size_t>(s.length / 0.5);
+    return s;
+}
+
 }  // namespace
 
 // find_crossings looks only at the segments near a crosswalk (a grid; testing every lane segment
@@ -259,22 +289,18 @@ TEST_CASE("mark_junctions leaves out exactly the lanes that may meet: neighbours
 // lane marked; and a lane across them examines a bounded number of pairs and marks them all.
 TEST_CASE("mark_junctions examines no pair of segments of straight lanes along each other, at any angle") {
     std::mt19937_64 rng(22);
-    std::uniform_real_distribution<double> u(0, 1);
-    const double gaps[] = {0, 1e-7, 1e-3, 0.1, 1};
     for (int round = 0; round < 60; ++round) {
         CAPTURE(round);
-        const double angle = 2 * M_PI * u(rng), length = 20 + 200 * u(rng), gap = gaps[rng() % 5];
-        const Vec2 origin{2e6 * (u(rng) - 0.5), 2e6 * (u(rng) - 0.5)};
-        const Vec2 along{std::cos(angle), std::sin(angle)}, across{-along.y, along.x};
+        const StraightLines s = straight_lines(rng);
+        const double angle = s.angle, length = s.length, gap = s.gap;
         CAPTURE(angle);
         CAPTURE(gap);
         RoadNetwork net;
         const size_t count = 2 + rng() % 15;
-        const auto pieces = static_cast<size_t>(length / 0.5);
         for (size_t i = 0; i < count; ++i) {
             Lane l;
             l.name = "l" + std::to_string(i);
-            for (size_t k = 0; k <= pieces; ++k) l.centre.push_back(origin + (0.5 * static_cast<double>(k)) * along + (gap * static_cast<double>(i)) * across);
+            l.centre = s.line(i);
             net.add_lane(l);
         }
         CHECK(mark_junctions(net) == 0);
@@ -282,9 +308,9 @@ TEST_CASE("mark_junctions examines no pair of segments of straight lanes along e
         // A lane across them all in the middle meets every one.
         Lane cross_lane;
         cross_lane.name = "across";
-        const Vec2 mid = origin + (0.5 * length) * along;
+        const Vec2 mid = s.origin + (0.5 * length) * s.along;
         const double reach = 2 + gap * static_cast<double>(count);
-        for (double d = -reach; d <= reach + gap * static_cast<double>(count); d += 0.5) cross_lane.centre.push_back(mid + d * across);
+        for (double d = -reach; d <= reach + gap * static_cast<double>(count); d += 0.5) cross_lane.centre.push_back(mid + d * s.across);
         net.add_lane(cross_lane);
         const size_t examined = mark_junctions(net);
         CHECK(examined > 0);
@@ -335,41 +361,33 @@ TEST_CASE("mark_junctions marks a lane ending on stacked straight lanes, and all
 // crosses each lane once, at the middle, examining a bounded number of pairs.
 TEST_CASE("find_crossings examines no pair of a crosswalk along a lane, and finds one across them") {
     std::mt19937_64 rng(24);
-    std::uniform_real_distribution<double> u(0, 1);
-    const double gaps[] = {0, 1e-7, 1e-3, 0.1, 1};
     for (int round = 0; round < 60; ++round) {
         CAPTURE(round);
-        const double angle = 2 * M_PI * u(rng), length = 20 + 200 * u(rng), gap = gaps[rng() % 5];
-        const Vec2 origin{2e6 * (u(rng) - 0.5), 2e6 * (u(rng) - 0.5)};
-        const Vec2 along{std::cos(angle), std::sin(angle)}, across{-along.y, along.x};
+        const StraightLines s = straight_lines(rng);
+        const double angle = s.angle, gap = s.gap;
+        const size_t pieces = s.pieces;
         CAPTURE(angle);
         CAPTURE(gap);
-        const auto pieces = static_cast<size_t>(length / 0.5);
-        auto line = [&](size_t i) {
-            std::vector<Vec2> pts;
-            for (size_t k = 0; k <= pieces; ++k) pts.push_back(origin + (0.5 * static_cast<double>(k)) * along + (gap * static_cast<double>(i)) * across);
-            return pts;
-        };
         RoadNetwork net;
         const size_t lanes = 1 + rng() % 8, walks = 1 + rng() % 8;
         for (size_t i = 0; i < lanes; ++i) {
             Lane l;
             l.name = "l" + std::to_string(i);
-            l.centre = line(i);
+            l.centre = s.line(i);
             net.add_lane(l);
         }
         for (size_t i = 0; i < walks; ++i) {
             Crosswalk cw;
-            cw.centre = line(lanes + i);
+            cw.centre = s.line(lanes + i);
             net.crosswalks.push_back(cw);
         }
         CHECK(find_crossings(net) == 0);
         for (const auto& cw : net.crosswalks) CHECK(cw.crossings.empty());
         // A crosswalk across them all in the middle, between two of the lanes' points.
         Crosswalk over;
-        const Vec2 mid = origin + (0.5 * static_cast<double>(pieces / 2) + 0.25) * along;
+        const Vec2 mid = s.origin + (0.5 * static_cast<double>(pieces / 2) + 0.25) * s.along;
         const double reach = 2 + gap * static_cast<double>(lanes + walks);
-        for (double d = -2; d <= reach; d += 0.5) over.centre.push_back(mid + d * across);
+        for (double d = -2; d <= reach; d += 0.5) over.centre.push_back(mid + d * s.across);
         net.crosswalks.push_back(over);
         const size_t examined = find_crossings(net);
         CHECK(examined > 0);
