@@ -1004,20 +1004,23 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
         out << "    }\n";
     }
     std::set<std::string> object_names;
-    std::map<std::string, std::string> next_free;  // a taken name -> the name its next copy tries first
+    std::map<std::string, int> copies;  // a name -> the number its next copy tries first
     for (const auto& o : sc->objects) {
         std::string name = ident(o.name, "object");
         // Vehicles are v<vid>, pedestrians p<pid>: keep objects out of those name spaces.
         const bool vehicle_like = name.size() > 1 && (name[0] == 'v' || name[0] == 'p') &&
                                   name.find_first_not_of("0123456789", 1) == std::string::npos;
         if (vehicle_like) name = "o_" + name;
-        // Copies of one name take `_`, `__`, ...; remembering where the last copy stopped keeps a
-        // file of many same-named objects linear.
-        const std::string base = name;
-        if (const auto it = next_free.find(base); it != next_free.end()) name = it->second;
-        while (object_names.count(name)) name += "_";
+        // Copies of one name are numbered from 2 (`cone`, `cone_2`, ...), past names taken
+        // otherwise; each copy starts where the last one stopped, so many copies cost linear time.
+        if (object_names.count(name)) {
+            const std::string base = name;
+            int& n = copies.try_emplace(base, 2).first->second;
+            do {
+                name = base + "_" + std::to_string(n++);
+            } while (object_names.count(name));
+        }
         object_names.insert(name);
-        next_free[base] = name + "_";
         double length = o.length, width = o.width;
         std::string facing;
         if (o.area) {

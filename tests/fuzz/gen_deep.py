@@ -80,9 +80,10 @@ write("btree", "parens_30k.btree",
       "behaviortree deep:\n    maneuver m_keep(MVelKeepConfig(vel=" + "(" * 15000 + "14.0" + ")" * 15000 + "))\n")
 write("btree", "call_nesting_5000.btree",
       "behaviortree deep:\n    maneuver m_keep(" + "MP(" * 5000 + "1" + ")" * 5000 + ")\n")
-write("btree", "indent_200.btree",
-      "behaviortree deep:\n" + "".join("    " * (k + 1) + "->\n" for k in range(200))
-      + "    " * 201 + "maneuver m_keep(MVelKeepConfig(vel=MP(14.0,10,6)))\n")
+# 150 levels, past the limit of 128, within the target's 64 KB.
+write("btree", "indent_150.btree",
+      "behaviortree deep:\n" + "".join("    " * (k + 1) + "->\n" for k in range(150))
+      + "    " * 151 + "maneuver m_keep(MVelKeepConfig(vel=MP(14.0,10,6)))\n")
 write("btree", "long_line_60k.btree",
       BT.format(body="        condition c_x(" + "a" * 60000 + "=1)\n"))
 write("btree", "many_args_5000.btree",
@@ -99,7 +100,7 @@ write("gss_scenario", "route_1000.gs.osm",
       "<tag k='vid' v='1'/><tag k='name' v='v1'/><tag k='btree' v='drive.btree'/><tag k='route' v='r'/></node>\n"
       + nodes + "  <way id='-1'>" + "".join(f"<nd ref='-{k}'/>" for k in range(1, 1001))
       + "<tag k='gs' v='route'/><tag k='name' v='r'/></way>\n</osm>\n")
-write("gss_scenario", "xml_depth_20000.gs.osm", "<osm>" + "<x>" * 20000 + "</x>" * 20000 + "</osm>")
+write("gss_scenario", "xml_depth_9000.gs.osm", "<osm>" + "<x>" * 9000 + "</x>" * 9000 + "</osm>")  # within 64 KB
 write("gss_scenario", "long_name_60k.gs.osm",
       "<osm><node id='1' lat='49' lon='8'><tag k='gs' v='globalconfig'/><tag k='lanelet' v='m.osm'/>"
       "<tag k='name' v='" + "n" * 60000 + "'/></node></osm>")
