@@ -203,6 +203,10 @@ ENTRIES = {
               "(motionless) one and such a pedestrian a path pedestrian."),
     "W0904": ("gss-ignored-element",
               "An element the reference's scenario setup does not read (egogoal, metric, trigger): ignored."),
+    "W0905": ("gss-reconfigured-twice",
+              "A subtree reference or a vehicle's `btconfig` reconfigures the same node twice. The later "
+              "configuration replaces the earlier one whole, as the reference reconfigures the node once per "
+              "entry; drop the entry that should not count."),
 }
 
 

@@ -1269,7 +1269,12 @@ std::string BtreeLibrary::lower_subtree(const BtNode& n, BtAgent agent, TreeStat
     // out fall back to the catalog defaults. A subtree reference in a .btree reaches the
     // tree's own nodes (the reference reconfigures a subtree before linking its subtrees in);
     // a vehicle's btconfig (`deep`) reaches the nodes of the whole tree.
-    std::vector<Arg> out;
+    // The arguments of each node reconfigured, in the order the nodes first appear; a node
+    // reconfigured again takes the later configuration whole, as the reference's reconfigure
+    // replaces a node's MConfig each time.
+    std::vector<std::vector<Arg>> node_args;
+    std::map<std::string, size_t> node_index;        // `path.label.` → its entry in node_args
+    std::map<std::string, diag::SourceRange> first;  // `path.label.` → where it was first reconfigured
     std::map<std::string, std::set<std::string>> fields_of;  // label in `sub` → fields overridden
     for (const BtItem& it : n.call.items) {
         if (!it.key) {
@@ -1308,6 +1313,18 @@ std::string BtreeLibrary::lower_subtree(const BtNode& n, BtAgent agent, TreeStat
         if (!args) continue;
         const catalog::ManeuverDef* m = catalog::find_maneuver(cm->maneuver);
         const std::string path = found->path + info.sdv_label + ".";
+        const auto [slot, fresh] = node_index.try_emplace(path, node_args.size());
+        if (fresh) {
+            node_args.emplace_back();
+            first.emplace(path, it.key_range);
+        } else {
+            auto& d = diags_.warning("W0905", "gss-reconfigured-twice", it.key_range,
+                                     "node '" + *it.key + "' of '" + n.label + "' is reconfigured again; this configuration replaces the earlier one");
+            d.notes.push_back({first.at(path), "first reconfigured here"});
+            d.notes.push_back({{}, "the reference reconfigures the node once per entry, so the last one wins"});
+        }
+        std::vector<Arg>& out = node_args[slot->second];
+        out.clear();
         std::set<std::string> given;
         for (const Arg& a : *args) {
             out.push_back({path + a.name, a.text});
@@ -1334,7 +1351,13 @@ std::string BtreeLibrary::lower_subtree(const BtNode& n, BtAgent agent, TreeStat
         t->lowered.order.push_back({"", 0, label, sub, std::move(fields_of)});
     }
     std::string s = (label.empty() ? "" : label + ": ") + "subtree " + sub->name + "(";
-    for (size_t i = 0; i < out.size(); ++i) s += (i ? ", " : "") + out[i].name + " = " + out[i].text;
+    bool comma = false;
+    for (const auto& args : node_args) {
+        for (const Arg& a : args) {
+            s += (comma ? ", " : "") + a.name + " = " + a.text;
+            comma = true;
+        }
+    }
     return s + ")\n";
 }
 
