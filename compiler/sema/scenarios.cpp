@@ -258,12 +258,12 @@ ir::Vehicle Checker::check_vehicle(const ast::VehicleDecl& v, ScenarioCtx& ctx,
     out.speed = num(set["speed"], Dim::speed, 0, v.is_pedestrian ? 10 : 100, false, 0.0);
     // A pedestrian is a disc of the larger of its length and width (Euro NCAP's adult target is
     // 0.5 m × 0.6 m; the reference's pedestrian radius is 0.27 m).
-    out.length = num(set["length"], Dim::length, 0, v.is_pedestrian ? 2 : 30, true, v.is_pedestrian ? 0.5 : 4.5);
-    out.width = num(set["width"], Dim::length, 0, v.is_pedestrian ? 2 : 5, true, v.is_pedestrian ? 0.5 : 1.8);
-    if (v.is_object) {
-        out.object = true;
-        out.length = num(set["length"], Dim::length, 0, 100, true, 4.5);
-    }
+    const catalog::AgentSize max = v.is_pedestrian ? catalog::kMaxPedestrianSize
+                                   : v.is_object   ? catalog::kMaxObjectSize
+                                                   : catalog::kMaxVehicleSize;
+    out.length = num(set["length"], Dim::length, 0, max.length, true, v.is_pedestrian ? 0.5 : 4.5);
+    out.width = num(set["width"], Dim::length, 0, max.width, true, v.is_pedestrian ? 0.5 : 1.8);
+    if (v.is_object) out.object = true;
     for (size_t i = 1; i < v.starts.size(); ++i) {
         error("E0504", v.starts[i].range, "duplicate 'start' of " + what);
     }

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <utility>
 
 namespace sdv::catalog {
 namespace {
@@ -904,6 +905,16 @@ std::string render_markdown() {
             << " |\n";
     }
     out << "\nASCII spellings: `m/s^2`, `m/s2` and `m/s²` are the same unit; `+-` is `±`.\n";
+    out << "\n## Agent sizes\n\n"
+        << "The `length` and `width` an agent may have (above 0, at most these); the readers of recorded "
+           "traffic (CommonRoad, INTERACTION) refuse an agent beyond them, so that every recording "
+           "they read replays as a scenario.\n\n"
+        << "| agent | length | width |\n|---|---|---|\n";
+    const std::pair<const char*, AgentSize> sizes[] = {
+        {"vehicle", kMaxVehicleSize}, {"pedestrian", kMaxPedestrianSize}, {"object", kMaxObjectSize}};
+    for (const auto& [agent, size] : sizes) {
+        out << "| " << agent << " | " << fmt_number(size.length) << " m | " << fmt_number(size.width) << " m |\n";
+    }
     return out.str();
 }
 

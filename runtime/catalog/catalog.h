@@ -30,6 +30,17 @@ std::string_view to_string(ParamType type);
 
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
+// The largest length and width of an agent, in metres (both must also be above 0): what the
+// checker accepts for `length` and `width`, and what the readers of recorded traffic accept, so
+// that every recorded agent can be written as a scenario (docs/language.md).
+struct AgentSize {
+    double length;
+    double width;
+};
+inline constexpr AgentSize kMaxVehicleSize{30, 5};     // a vehicle: up to a long articulated bus
+inline constexpr AgentSize kMaxPedestrianSize{2, 2};   // a pedestrian: a disc of the larger of the two
+inline constexpr AgentSize kMaxObjectSize{100, 5};     // a static object: a long barrier, a parked convoy
+
 // A default that may itself be a sampled range: value ±spread_pct % with `samples` points.
 struct DefaultValue {
     double value = 0.0;       // SI; for choices the index into `choices`; for booleans 0/1

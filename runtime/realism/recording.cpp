@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "runtime/catalog/catalog.h"
 #include "runtime/road/commonroad_reader.h"
 #include "runtime/road/reader_text.h"
 
@@ -19,6 +20,13 @@ constexpr double kMaxTime = 1e6;        // s
 constexpr auto number = road::parse_number;
 using road::read_file;
 using Lines = road::XmlLines;
+
+// A size limit as the messages print it: 30, 2.5.
+std::string fmt_m(double v) {
+    std::ostringstream o;
+    o << v;
+    return o.str();
+}
 
 // The value of a CommonRoad state field: <field><exact>v</exact></field>; an interval or a
 // missing value is nullopt (`why` says which).
@@ -114,18 +122,24 @@ Recording parse_commonroad(const std::string& xml, const std::string& path) {
         tr.type = o.child_value("type");
         if (tr.type.empty()) tr.type = "unknown";
         const auto shape = o.child("shape");
+        // Sizes the scenario of a replay can declare (catalog::AgentSize).
+        const catalog::AgentSize max = tr.pedestrian() ? catalog::kMaxPedestrianSize : catalog::kMaxVehicleSize;
+        const std::string kind = tr.pedestrian() ? "a pedestrian" : "a vehicle";
         if (const auto rect = shape.child("rectangle")) {
             const auto l = number(rect.child_value("length")), w = number(rect.child_value("width"));
-            if (!l || !w || *l <= 0 || *w <= 0 || *l > 100 || *w > 20) {
-                r.errors.push_back(where + "its rectangle needs a length in (0, 100] m and a width in (0, 20] m");
+            if (!l || !w || !(*l > 0) || !(*w > 0) || *l > max.length || *w > max.width) {
+                r.errors.push_back(where + "its rectangle needs a length in (0, " + fmt_m(max.length) + "] m and a width in (0, " +
+                                   fmt_m(max.width) + "] m, the size of " + kind + " (" + tr.type + ")");
                 continue;
             }
             tr.length = *l;
             tr.width = *w;
         } else if (const auto circle = shape.child("circle")) {
             const auto rad = number(circle.child_value("radius"));
-            if (!rad || *rad <= 0 || *rad > 50) {
-                r.errors.push_back(where + "its circle needs a radius in (0, 50] m");
+            const double max_radius = std::min(max.length, max.width) / 2;
+            if (!rad || !(*rad > 0) || *rad > max_radius) {
+                r.errors.push_back(where + "its circle needs a radius in (0, " + fmt_m(max_radius) + "] m, the size of " + kind +
+                                   " (" + tr.type + ")");
                 continue;
             }
             tr.length = tr.width = 2 * *rad;
@@ -310,8 +324,18 @@ Recording parse_interaction(const std::string& csv, const std::string& path) {
             tr.type = col.count("agent_type") ? cells[col["agent_type"]] : "car";
             if (tr.type.empty()) tr.type = "car";
             if (tr.pedestrian()) tr.length = tr.width = 0.5;
-            if (auto l = num("length"); l && *l > 0 && *l <= 100) tr.length = *l;
-            if (auto w = num("width"); w && *w > 0 && *w <= 20) tr.width = *w;
+            // INTERACTION leaves length and width empty for pedestrians and bicycles: the defaults.
+            const catalog::AgentSize max = tr.pedestrian() ? catalog::kMaxPedestrianSize : catalog::kMaxVehicleSize;
+            const auto l = num("length"), w = num("width");
+            if ((l && !(*l > 0 && *l <= max.length)) || (w && !(*w > 0 && *w <= max.width))) {
+                r.errors.push_back(where + "track " + id + ": length and width must be in (0, " + fmt_m(max.length) + "] m and (0, " +
+                                   fmt_m(max.width) + "] m, the size of " + (tr.pedestrian() ? "a pedestrian" : "a vehicle") +
+                                   " (" + tr.type + ")");
+                if (r.errors.size() >= 20) return r;
+                continue;
+            }
+            if (l) tr.length = *l;
+            if (w) tr.width = *w;
             it = index.emplace(id, r.tracks.size()).first;
             r.tracks.push_back(std::move(tr));
         }

@@ -1,0 +1,156 @@
+// Every agent the readers of recorded traffic accept can be written as a scenario: the sizes they
+// accept are the sizes the checker accepts (catalog::AgentSize), so a replay of a recording
+// compiles whatever its agents measure. Fuzz finding 24: a CommonRoad car 55 m long was read,
+// and its replay did not compile (E0301). Property: the first car of a real recording, resized
+// to lengths and widths around the limits, as a rectangle or a circle, is either refused with a
+// message naming it, or replays (as the SDV and as a recorded trajectory) to a scenario that
+// compiles without errors. The same for INTERACTION tracks on a built road.
+#include <doctest/doctest.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "compiler/recorded/replay.h"
+#include "compiler/sema/compile.h"
+#include "runtime/catalog/catalog.h"
+#include "runtime/realism/recording.h"
+#include "runtime/road/commonroad_reader.h"
+#include "runtime/road/builtin_road.h"
+
+using namespace sdv;
+
+namespace {
+
+const std::string kFile = std::string(SDV_SHARED_DIR) + "/data/recorded/commonroad/USA_US101-3_3_T-1.xml";
+constexpr const char* kShape = "<rectangle>\n        <length>4.1148</length>\n        <width>2.4079</width>\n      </rectangle>";
+
+std::string read(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// The first error of compiling `text`, or "" when it compiles.
+std::string compile_error(const std::string& text) {
+    diag::SourceManager sm;
+    diag::DiagnosticEngine diags(sm);
+    const auto c = compiler::compile_source("replay.sdv", text, sm, diags);
+    for (const auto& d : diags.sorted()) {
+        if (d.severity == diag::Severity::error) return d.code + " " + d.message;
+    }
+    return c.program ? "" : "no program";
+}
+
+// Replays `id` as the SDV, and every agent as recorded: both must compile.
+void check_replays(const realism::Recording& rec, const road::RoadNetwork& net, const std::string& id) {
+    compiler::recorded::ReplaySpec as_sdv;
+    as_sdv.sdv = id;
+    for (const auto& spec : {as_sdv, compiler::recorded::ReplaySpec{}}) {
+        const auto src = compiler::recorded::replay_source(rec, net, spec);
+        REQUIRE_MESSAGE(src.error.empty(), src.error);
+        CHECK_MESSAGE(compile_error(src.text).empty(), compile_error(src.text));
+    }
+}
+
+struct Size {
+    double length, width;
+};
+
+// Sizes within, on and just past each limit, and nonsense.
+std::vector<Size> sizes(const catalog::AgentSize& max) {
+    std::vector<Size> out;
+    const double ls[] = {0.3, 4.5, max.length, max.length + 1e-3, 55.097, 0, -1};
+    const double ws[] = {0.3, 1.8, max.width, max.width + 1e-3, 0};
+    for (double l : ls)
+        for (double w : ws) out.push_back({l, w});
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("a CommonRoad agent the reader accepts replays to a scenario that compiles, at every size") {
+    const std::string text = read(kFile);
+    REQUIRE(text.find(kShape) != std::string::npos);
+    auto net = road::parse_commonroad(text);
+    REQUIRE(net.network);
+    net.network->prepare();
+    const catalog::AgentSize max = catalog::kMaxVehicleSize;
+    for (const Size s : sizes(max)) {
+        CAPTURE(s.length);
+        CAPTURE(s.width);
+        std::string t = text;
+        t.replace(t.find(kShape), std::string(kShape).size(),
+                  "<rectangle><length>" + std::to_string(s.length) + "</length><width>" + std::to_string(s.width) + "</width></rectangle>");
+        auto rec = realism::parse_commonroad(t, kFile);
+        rec.map_path = kFile;
+        const bool fits = s.length > 0 && s.width > 0 && s.length <= max.length && s.width <= max.width;
+        if (!fits) {
+            REQUIRE(rec.errors.size() == 1);
+            CHECK(rec.errors[0].find("obstacle 363: its rectangle needs a length in (0, 30] m and a width in (0, 5] m") !=
+                  std::string::npos);
+            continue;
+        }
+        REQUIRE(rec.errors.empty());
+        check_replays(rec, *net.network, "363");
+    }
+    // A circle: its diameter is both length and width.
+    for (const double r : {0.2, max.width / 2, max.width / 2 + 1e-3, 20.0}) {
+        CAPTURE(r);
+        std::string t = text;
+        t.replace(t.find(kShape), std::string(kShape).size(), "<circle><radius>" + std::to_string(r) + "</radius></circle>");
+        auto rec = realism::parse_commonroad(t, kFile);
+        rec.map_path = kFile;
+        if (2 * r > max.width) {
+            REQUIRE(rec.errors.size() == 1);
+            CHECK(rec.errors[0].find("its circle needs a radius in (0, 2.5] m") != std::string::npos);
+            continue;
+        }
+        REQUIRE(rec.errors.empty());
+        check_replays(rec, *net.network, "363");
+    }
+}
+
+TEST_CASE("an INTERACTION track the reader accepts replays to a scenario that compiles, at every size") {
+    road::RoadSpec spec;
+    spec.name = "r";
+    spec.segments.push_back({road::Segment::straight, 200, 0});
+    auto built = road::build_road(spec);
+    REQUIRE(built.errors.empty());
+    built.network.prepare();
+    for (const bool pedestrian : {false, true}) {
+        const catalog::AgentSize max = pedestrian ? catalog::kMaxPedestrianSize : catalog::kMaxVehicleSize;
+        for (const Size s : sizes(max)) {
+            CAPTURE(pedestrian);
+            CAPTURE(s.length);
+            CAPTURE(s.width);
+            const std::string type = pedestrian ? "pedestrian/bicycle" : "car";
+            std::string csv = "track_id,frame_id,timestamp_ms,agent_type,x,y,vx,vy,psi_rad,length,width\n";
+            for (int k = 0; k < 10; ++k) {
+                csv += "1," + std::to_string(k) + "," + std::to_string(100 * k) + "," + type + "," + std::to_string(20 + k) +
+                       ",-1.75,10,0,0," + std::to_string(s.length) + "," + std::to_string(s.width) + "\n";
+            }
+            auto rec = realism::parse_interaction(csv, "t.csv");
+            rec.map_path = kFile;  // the checker requires the map file to exist, and does not read it
+            const bool fits = s.length > 0 && s.width > 0 && s.length <= max.length && s.width <= max.width;
+            if (!fits) {
+                REQUIRE(!rec.errors.empty());
+                CHECK(rec.errors[0].find("t.csv:2: track 1: length and width must be in") == 0);
+                continue;
+            }
+            REQUIRE(rec.errors.empty());
+            REQUIRE(rec.tracks.size() == 1);
+            CHECK(rec.tracks[0].length == doctest::Approx(s.length));
+            if (pedestrian) {
+                // A pedestrian is never the SDV: only the recorded replay.
+                const auto src = compiler::recorded::replay_source(rec, built.network, {});
+                REQUIRE_MESSAGE(src.error.empty(), src.error);
+                CHECK_MESSAGE(compile_error(src.text).empty(), compile_error(src.text));
+            } else {
+                check_replays(rec, built.network, "1");
+            }
+        }
+    }
+}
