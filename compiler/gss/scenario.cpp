@@ -4,6 +4,7 @@
 
 #include "compiler/gss/lower.h"
 #include "compiler/syntax/format.h"
+#include "runtime/catalog/catalog.h"
 #include "runtime/road/lanelet2_reader.h"
 #include "runtime/road/reader_text.h"
 #include "runtime/road/routing.h"
@@ -149,8 +150,8 @@ public:
                 o.at = p;
                 o.range = p.range;
                 const std::string who = "static object '" + o.name + "'";
-                if (auto l = tags.find("length"); l != tags.end()) o.length = positive(l->second, who, "length").value_or(0.5);
-                if (auto w = tags.find("width"); w != tags.end()) o.width = positive(w->second, who, "width").value_or(0.5);
+                if (auto l = tags.find("length"); l != tags.end()) o.length = size(l->second, who, "length", catalog::kMaxObjectSize.length, "an object").value_or(0.5);
+                if (auto w = tags.find("width"); w != tags.end()) o.width = size(w->second, who, "width", catalog::kMaxObjectSize.width, "an object").value_or(0.5);
                 sc.objects.push_back(o);
             } else if (what == "egostart") {
                 // The reference adds an external vehicle 99, 'Ego', for a client to drive.
@@ -376,6 +377,18 @@ private:
         return v;
     }
 
+    // A length or width: positive, and at most what the agent may measure (catalog::AgentSize).
+    std::optional<double> size(const Tag& t, const std::string& who, const char* key, double max, const char* agent) {
+        auto v = positive(t, who, key);
+        if (v && *v > max) {
+            diags_.error("E0911", t.range, who + ": tag '" + key + "' is " + fixed(*v, 3) + " m, more than " + agent + "'s " +
+                                               fixed(max, 3) + " m")
+                .notes.push_back({{}, "the sizes an agent may have: docs/catalog.md, Agent sizes"});
+            return std::nullopt;
+        }
+        return v;
+    }
+
     std::optional<bool> yes_no(const Tag& t, const std::string& who, const char* key) {
         if (t.value == "yes" || t.value == "true" || t.value == "1") return true;
         if (t.value == "no" || t.value == "false" || t.value == "0") return false;
@@ -436,8 +449,8 @@ private:
             v.has_speed = true;
         }
         if (v.speed < 0) diags_.error("E0911", tags.at("speed").range, who + ": 'speed' must not be negative");
-        if (auto l = tags.find("length"); l != tags.end()) v.length = positive(l->second, who, "length").value_or(4.5);
-        if (auto w = tags.find("width"); w != tags.end()) v.width = positive(w->second, who, "width").value_or(1.8);
+        if (auto l = tags.find("length"); l != tags.end()) v.length = size(l->second, who, "length", catalog::kMaxVehicleSize.length, "a vehicle").value_or(4.5);
+        if (auto w = tags.find("width"); w != tags.end()) v.width = size(w->second, who, "width", catalog::kMaxVehicleSize.width, "a vehicle").value_or(1.8);
         if (auto g = tags.find("goal_ends_simulation"); g != tags.end()) {
             v.goal_ends_simulation = yes_no(g->second, who, "goal_ends_simulation").value_or(false);
         }
@@ -556,8 +569,8 @@ private:
             e.notes.push_back({{}, "GeoScenario's pedestrian types: SP (simulated), TP (trajectory), PP (path)"});
             d.btype = "PP";
         }
-        if (auto l = tags.find("length"); l != tags.end()) d.length = positive(l->second, who, "length").value_or(d.length);
-        if (auto w = tags.find("width"); w != tags.end()) d.width = positive(w->second, who, "width").value_or(d.width);
+        if (auto l = tags.find("length"); l != tags.end()) d.length = size(l->second, who, "length", catalog::kMaxPedestrianSize.length, "a pedestrian").value_or(d.length);
+        if (auto w = tags.find("width"); w != tags.end()) d.width = size(w->second, who, "width", catalog::kMaxPedestrianSize.width, "a pedestrian").value_or(d.width);
         d.has_speed = tags.count("speed") > 0;
         if (d.btype == "SP") {
             // The reference's SP walks to the last node of its route, else to its destination;
@@ -1030,6 +1043,13 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
             length = std::max(0.1, std::fabs(p1.x - p0.x));
             width = std::max(0.1, std::fabs(p1.y - p0.y));
             facing = " heading 0 deg";
+            const catalog::AgentSize max = catalog::kMaxObjectSize;
+            if (length > max.length || width > max.width) {
+                diags.error("E0911", o.range, "static object '" + o.name + "': its area is " + fixed(length, 3) + " m east-west by " +
+                                                   fixed(width, 3) + " m north-south, more than an object's " + fixed(max.length, 3) +
+                                                   " m by " + fixed(max.width, 3) + " m")
+                    .notes.push_back({{}, "the sizes an agent may have: docs/catalog.md, Agent sizes; draw a larger area as several objects"});
+            }
         }
         out << "    object " << name << " {\n        start at " << xy(o.at) << facing << "\n        length " << fixed(length, 3)
             << " m\n        width " << fixed(width, 3) << " m\n    }\n";
