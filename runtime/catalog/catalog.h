@@ -32,7 +32,7 @@ inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // The largest length and width of an agent, in metres (both must also be above 0): what the
 // checker accepts for `length` and `width`, and what the readers of recorded traffic accept, so
-// that every recorded agent can be written as a scenario (docs/language.md).
+// that every recorded agent can be written as a scenario (docs/catalog.md, Agent sizes).
 struct AgentSize {
     double length;
     double width;
