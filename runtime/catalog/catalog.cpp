@@ -14,6 +14,10 @@
 namespace sdv::catalog {
 namespace {
 
+// The agent sizes as `sdv catalog` prints them (markdown and JSON).
+const std::pair<const char*, AgentSize> kAgentSizes[] = {
+    {"vehicle", kMaxVehicleSize}, {"pedestrian", kMaxPedestrianSize}, {"object", kMaxObjectSize}};
+
 // Small builders keep the tables below readable.
 ParamDef qty(std::string name, Dim dim, std::optional<DefaultValue> def, double lo, double hi,
              std::string doc, bool lo_exclusive = false) {
@@ -789,6 +793,10 @@ nlohmann::ordered_json to_json() {
         j["units"].push_back({{"unit", u.spelling}, {"dimension", to_string(u.dim)},
                               {"to_si", u.to_si}});
     }
+    j["agent_sizes"] = nlohmann::ordered_json::array();
+    for (const auto& [agent, size] : kAgentSizes) {
+        j["agent_sizes"].push_back({{"agent", agent}, {"max_length_m", size.length}, {"max_width_m", size.width}});
+    }
     return j;
 }
 
@@ -910,9 +918,7 @@ std::string render_markdown() {
            "traffic (CommonRoad, INTERACTION) refuse an agent beyond them, so that every recording "
            "they read replays as a scenario.\n\n"
         << "| agent | length | width |\n|---|---|---|\n";
-    const std::pair<const char*, AgentSize> sizes[] = {
-        {"vehicle", kMaxVehicleSize}, {"pedestrian", kMaxPedestrianSize}, {"object", kMaxObjectSize}};
-    for (const auto& [agent, size] : sizes) {
+    for (const auto& [agent, size] : kAgentSizes) {
         out << "| " << agent << " | " << fmt_number(size.length) << " m | " << fmt_number(size.width) << " m |\n";
     }
     return out.str();
