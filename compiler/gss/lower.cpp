@@ -1273,8 +1273,8 @@ std::string BtreeLibrary::lower_subtree(const BtNode& n, BtAgent agent, TreeStat
     // reconfigured again takes the later configuration whole, as the reference's reconfigure
     // replaces a node's MConfig each time.
     std::vector<std::vector<Arg>> node_args;
-    std::map<std::string, size_t> node_index;        // `path.label.` → its entry in node_args
-    std::map<std::string, diag::SourceRange> first;  // `path.label.` → where it was first reconfigured
+    // `path.label.` → its entry in node_args, and where it was first reconfigured.
+    std::map<std::string, std::pair<size_t, diag::SourceRange>> node_index;
     std::map<std::string, std::set<std::string>> fields_of;  // label in `sub` → fields overridden
     for (const BtItem& it : n.call.items) {
         if (!it.key) {
@@ -1313,17 +1313,16 @@ std::string BtreeLibrary::lower_subtree(const BtNode& n, BtAgent agent, TreeStat
         if (!args) continue;
         const catalog::ManeuverDef* m = catalog::find_maneuver(cm->maneuver);
         const std::string path = found->path + info.sdv_label + ".";
-        const auto [slot, fresh] = node_index.try_emplace(path, node_args.size());
+        const auto [slot, fresh] = node_index.try_emplace(path, node_args.size(), it.key_range);
         if (fresh) {
             node_args.emplace_back();
-            first.emplace(path, it.key_range);
         } else {
             auto& d = diags_.warning("W0905", "gss-reconfigured-twice", it.key_range,
                                      "node '" + *it.key + "' of '" + n.label + "' is reconfigured again; this configuration replaces the earlier one");
-            d.notes.push_back({first.at(path), "first reconfigured here"});
+            d.notes.push_back({slot->second.second, "first reconfigured here"});
             d.notes.push_back({{}, "the reference reconfigures the node once per entry, so the last one wins"});
         }
-        std::vector<Arg>& out = node_args[slot->second];
+        std::vector<Arg>& out = node_args[slot->second.first];
         out.clear();
         std::set<std::string> given;
         for (const Arg& a : *args) {
