@@ -2,7 +2,7 @@
 # Runs one libFuzzer target of tests/fuzz (tests/fuzz/README.md) and records the run in
 # docs/reliability.md.
 #
-#   scripts/fuzz.sh TARGET [MINUTES] [--no-sanitizers] [--runs N | --ci] [--keep-going]
+#   scripts/fuzz.sh TARGET [MINUTES] [--no-sanitizers] [--runs N [--resume] | --ci] [--keep-going]
 #                   [--record|--no-record] [--corpus DIR] [--jobs N] [--no-build]
 #
 # TARGET is a name of tests/fuzz/targets (sdv_frontend ir_reader btree gss_scenario lanelet2
@@ -19,6 +19,12 @@
 # --keep-going (libFuzzer's fork mode: each finding is saved and counted, the fuzzing goes on).
 # A time-bounded run rewrites its row (target and build) of the table in docs/reliability.md
 # unless --no-record; a count-bounded one only with --record.
+# --resume makes a count-bounded run a campaign in parts (10 million executions take hours, more
+# than one sitting): the first part copies the executable and keeps it, with its corpus and the
+# executions so far, in build/<preset>/campaigns/TARGET; stop a part at any time (SIGTERM to the
+# fuzzer) and run the same command again to go on with the same executable from that corpus,
+# until N executions in all. The row is recorded when the campaign ends, its executions summed
+# over the parts, the commit its executable was built from in its bound.
 # Exit status: 0 no finding, 1 a finding, 2 usage or build errors.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -47,13 +53,14 @@ usage() {
     exit 2
 }
 
-target="" minutes=10 preset=fuzz runs="" record="" corpus="" jobs=1 keep_going=0 ci=0 build_it=1
+target="" minutes=10 preset=fuzz runs="" record="" corpus="" jobs=1 keep_going=0 ci=0 build_it=1 resume=0
 while [ $# -gt 0 ]; do
     case $1 in
         --no-sanitizers) preset=fuzz-nosan ;;
         --runs) runs=${2:?}; shift ;;
         --record) record=1 ;;
         --keep-going) keep_going=1 ;;
+        --resume) resume=1 ;;
         --ci) ci=1; build_it=0 ;;
         --no-build) build_it=0 ;;
         --no-record) record=0 ;;
@@ -72,6 +79,10 @@ if [ -z "${max_len[$target]:-}" ]; then
     exit 2
 fi
 [ "$ci" = 0 ] || runs=${ci_runs[$target]}
+if [ "$resume" = 1 ] && { [ -z "$runs" ] || [ "$ci" = 1 ]; }; then
+    echo "fuzz.sh: --resume goes with --runs N" >&2
+    usage
+fi
 [ -n "$record" ] || { [ -n "$runs" ] && record=0 || record=1; }
 
 build=$root/build/$preset
@@ -86,9 +97,40 @@ if [ "$build_it" = 1 ]; then
         exit 2
     }
 fi
-if [ ! -x "$build/fuzz/fuzz_$target" ]; then
-    echo "fuzz.sh: no $build/fuzz/fuzz_$target: build the $preset preset first" >&2
+exe=$build/fuzz/fuzz_$target
+campaign=$build/campaigns/$target
+# The state of a campaign in parts (--resume): its bound, the executions, seconds and findings of
+# the parts so far, and the commit its executable was built from.
+c_runs=0 c_execs=0 c_seconds=0 c_findings=0 c_parts=0 c_commit=""
+if [ "$resume" = 1 ] && [ -f "$campaign/state" ]; then
+    # shellcheck disable=SC1091
+    . "$campaign/state"
+    if [ "$c_runs" != "$runs" ]; then
+        echo "fuzz.sh: $campaign is a campaign of $c_runs runs, not $runs: finish it, or delete the directory" >&2
+        exit 2
+    fi
+    exe=$campaign/fuzz_$target
+    echo "fuzz.sh: resuming $campaign: part $((c_parts + 1)), $c_execs of $c_runs executions done" >&2
+fi
+if [ ! -x "$exe" ]; then
+    echo "fuzz.sh: no $exe: build the $preset preset first" >&2
     exit 2
+fi
+if [ "$resume" = 1 ] && [ ! -f "$campaign/state" ]; then
+    rm -rf "$campaign" && mkdir -p "$campaign/work"
+    cp -p "$exe" "$campaign/fuzz_$target"
+    exe=$campaign/fuzz_$target
+    c_runs=$runs
+    # The commit the executable was built from: the last one before it was linked, with
+    # "uncommitted changes" when files that differ from that commit are older than it.
+    built=$(stat -c %Y "$exe")
+    c_commit=$(git -C "$root" log -1 --format=%h --until="@$built")
+    while IFS= read -r f; do
+        if [ -f "$root/$f" ] && [ "$(stat -c %Y "$root/$f")" -le "$built" ]; then
+            c_commit="$c_commit with uncommitted changes"
+            break
+        fi
+    done < <(git -C "$root" diff --name-only "$c_commit")
 fi
 
 # The seed corpus: gathered once (delete the directory to gather again). The inputs are
@@ -110,11 +152,22 @@ fi
 corpus=$(realpath -m "$corpus")
 
 work=$build/fuzz-work/$target
+[ "$resume" = 0 ] || work=$campaign/work
 findings=$build/findings/$target
 mkdir -p "$work" "$findings"
 logs=$(mktemp -d)
 trap 'rm -rf "$logs"' EXIT
-if [ -n "$runs" ]; then
+save_state() {
+    printf 'c_runs=%s\nc_execs=%s\nc_seconds=%s\nc_findings=%s\nc_parts=%s\nc_commit=%q\n' \
+        "$c_runs" "$c_execs" "$c_seconds" "$c_findings" "$c_parts" "$c_commit" >"$campaign/state"
+}
+if [ "$resume" = 1 ]; then
+    # Saved before the part too: a part cut short without its statistics (the machine stopped)
+    # adds nothing, and the next goes on from its corpus.
+    save_state
+    # A part of a campaign goes on from the corpus of the parts before (another seed each).
+    bound=(-runs="$((runs - c_execs))" -seed="$((c_parts + 1))")
+elif [ -n "$runs" ]; then
     # A bounded run starts from the seeds alone, so that it is the same run every time.
     rm -rf "$work" && mkdir -p "$work"
     bound=(-runs="$runs" -seed=1)
@@ -127,7 +180,8 @@ per_input=1
 [ "$preset" != fuzz ] || per_input=${timeout_sanitized[$target]:-1}
 [ "$ci" = 0 ] || per_input=60
 args=("${bound[@]}" -max_len="${max_len[$target]}" -timeout="$per_input" -rss_limit_mb=2048
-      -dict="$root/tests/fuzz/dict/$target.dict" -artifact_prefix="$findings/" -print_final_stats=1)
+      -dict="$root/tests/fuzz/dict/$target.dict" -artifact_prefix="$findings/" -print_final_stats=1
+      -interrupted_exitcode=72)
 # One process by default (as -jobs=1 -workers=1); --jobs N runs N jobs side by side, each in a
 # child process writing fuzz-<k>.log in the working directory; --keep-going runs --jobs
 # children at a time in fork mode.
@@ -140,8 +194,10 @@ touch "$logs/start"
 before=$(find "$findings" -type f | wc -l)
 echo "fuzz.sh: fuzz_$target ($preset) ${bound[0]} over $corpus/$target" >&2
 status=0
+started=$SECONDS
 (cd "$logs" && UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    "$build/fuzz/fuzz_$target" "${args[@]}" "$work" "$corpus/$target" >"$logs/main.log" 2>&1) || status=$?
+    "$exe" "${args[@]}" "$work" "$corpus/$target" >"$logs/main.log" 2>&1) || status=$?
+seconds=$((SECONDS - started))
 cat "$logs"/fuzz-*.log >"$logs/all.log" 2>/dev/null || true
 cat "$logs/main.log" >>"$logs/all.log"
 after=$(find "$findings" -type f | wc -l)
@@ -160,6 +216,12 @@ read -r execs rate cov ft < <(awk '
           printf "%d %d %d %d\n", execs, rate, cov, ft }' "$logs/all.log")
 grep -E "^(INFO: (seed|.*files found)|#[0-9]+[[:space:]]+(INITED|DONE)|stat::|==[0-9]+==ERROR|SUMMARY|ALARM|sdv fuzz:)" \
     "$logs/all.log" | head -40 >&2 || true
+# Exit status 72 without an artifact: stopped by SIGINT or SIGTERM, not a finding.
+stopped=0
+if [ "$status" -eq 72 ] && [ "$crashes" -eq 0 ]; then
+    stopped=1 status=0
+    echo "fuzz.sh: fuzz_$target stopped by a signal" >&2
+fi
 if [ "$keep_going" = 1 ] && [ "$crashes" -gt 0 ]; then
     echo "fuzz.sh: $crashes FINDING(s) in fuzz_$target:" >&2
     find "$findings" -type f -newer "$logs/start" | sed 's/^/    /' >&2
@@ -174,20 +236,39 @@ fi
 # of the last two (the first pays the target's one-time set-up) is printed next to the limit,
 # so that a load artifact is told from a slow input. It stays counted as a finding.
 for f in $(find "$findings" -type f -name 'timeout-*' -newer "$logs/start" 2>/dev/null); do
-    ms=$("$build/fuzz/fuzz_$target" "$f" "$f" "$f" 2>&1 |
+    ms=$("$exe" "$f" "$f" "$f" 2>&1 |
          awk '/^Executed .* in [0-9]+ ms/ { n++; if (n > 1 && (best == "" || $(NF - 1) + 0 < best)) best = $(NF - 1) + 0 }
               END { print best == "" ? "?" : best }') || ms="?"
     echo "fuzz.sh: $(basename "$f") replays alone in $ms ms (limit ${per_input} s)" >&2
 done
 echo "fuzz.sh: fuzz_$target: $execs executions, $rate exec/s, cov $cov ft $ft, $crashes finding(s)" >&2
 
+if [ "$resume" = 1 ]; then
+    c_parts=$((c_parts + 1)) c_execs=$((c_execs + execs)) c_seconds=$((c_seconds + seconds))
+    c_findings=$((c_findings + crashes))
+    save_state
+    if [ "$c_execs" -lt "$c_runs" ]; then
+        echo "fuzz.sh: campaign of fuzz_$target: $c_execs of $c_runs executions in $c_parts part(s)," \
+             "$c_findings finding(s); run the same command to go on" >&2
+        record=0
+    else
+        echo "fuzz.sh: campaign of fuzz_$target done: $c_execs executions in $c_parts part(s)," \
+             "$c_findings finding(s)" >&2
+        execs=$c_execs crashes=$c_findings
+        rate=$((c_seconds > 0 ? c_execs / c_seconds : 0))
+        mv "$campaign" "$campaign.done-$(date -u +%Y%m%d%H%M%S)"
+    fi
+fi
+
 if [ "$record" = 1 ]; then
     doc=$root/docs/reliability.md
     build_kind=$([ "$preset" = fuzz ] && echo "ASan+UBSan" || echo "no sanitizers")
     bound_text=${runs:+"$runs runs"}
     bound_text=${bound_text:-"$minutes min"}
+    [ "$resume" = 0 ] || bound_text="$bound_text in $c_parts parts (one executable, built from $c_commit)"
     [ "$keep_going" = 0 ] || bound_text="$bound_text, fork mode"
     [ "$per_input" = 1 ] || bound_text="$bound_text, ${per_input} s per input"
+    [ "$stopped" = 0 ] || [ "$resume" = 1 ] || bound_text="$bound_text, stopped by a signal"
     date=$(date -u +%Y-%m-%d)
     row="| $target | $build_kind | $execs | $rate | $cov | $ft | $crashes | $bound_text | $date |"
     python3 - "$doc" "$target" "$build_kind" "$row" <<'PY'

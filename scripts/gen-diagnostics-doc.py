@@ -173,7 +173,9 @@ ENTRIES = {
               "`--btree-path DIR`)."),
     "E0906": ("invalid value (.btree)",
               "A value of the wrong form: a constant where a number is expected, a malformed "
-              "MP(...)/LT(...) sampler, a tuple of the wrong length."),
+              "MP(...)/LT(...) sampler, a tuple of the wrong length; or a number outside the range of "
+              "the catalog parameter it sets, either end of an MP spread included (the converted "
+              "text would not compile)."),
     "E0907": ("subtree cycle (.btree)", "A behavior tree refers to itself through its subtrees."),
     "E0908": ("override of an unknown node (.btree)",
               "A subtree reference overrides a maneuver node the subtree does not have."),
@@ -183,13 +185,16 @@ ENTRIES = {
               "not GeoScenario version 2."),
     "E0911": ("missing or invalid GeoScenario tag",
               "An element lacks a required tag (vid, btree, route, lanelet, origin, ...) or a tag "
-              "has a malformed value. The message names the element."),
+              "has a malformed value, or one the converted .sdv text could not hold (a time over a "
+              "day, trajectory times that do not increase, a map path that is not UTF-8). The message "
+              "names the element."),
     "E0912": ("unknown GeoScenario reference",
               "A vehicle names a route or trajectory the file does not define, a way refers to a "
               "missing node, or the map is not found (give its directory with `--map-dir`)."),
     "E0913": ("unsupported GeoScenario element",
-              "An element or tree leaf sdv cannot simulate: an element GeoScenario 2.0 does not define, or the "
-              "`at_desired_speed` and `past_crosswalk_halfway` conditions of a pedestrian tree."),
+              "An element or tree leaf sdv cannot simulate: an element GeoScenario 2.0 does not define, the "
+              "`at_desired_speed` and `past_crosswalk_halfway` conditions of a pedestrian tree, a `gap` "
+              "condition without a distance or time, or a tree that never selects a maneuver."),
     "W0101": ("unused-tree", "A tree of the main file is used by no scenario (only when the file has a scenario)."),
     "W0102": ("unused-parameter", "A tree parameter is never referenced in the tree."),
     "W0103": ("unused-import", "Nothing from an import is used (only when the file has a scenario)."),

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -12,11 +11,7 @@
 namespace sdv::diff {
 namespace {
 
-std::string num(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return buf;
-}
+constexpr auto num = catalog::format_number;
 
 std::string quantity(double si, catalog::Dim dim) {
     if (dim == catalog::Dim::angle) return num(si * 180 / M_PI) + " deg";

@@ -133,15 +133,16 @@ public:
         return std::nullopt;
     }
 
-    std::optional<std::string> quantity(const BtItem& it, const std::string& unit) {
+    // `p`: the catalog parameter the value sets, whose range it must be in.
+    std::optional<std::string> quantity(const BtItem& it, const std::string& unit, const catalog::ParamDef* p) {
         auto n = number(it);
-        if (!n) return std::nullopt;
+        if (!n || !in_range(it, p, *n, 0, unit)) return std::nullopt;
         return with_unit(*n, unit);
     }
 
-    std::optional<std::string> integer(const BtItem& it) {
+    std::optional<std::string> integer(const BtItem& it, const catalog::ParamDef* p) {
         auto n = number(it);
-        if (!n) return std::nullopt;
+        if (!n || !in_range(it, p, std::round(*n), 0, "")) return std::nullopt;
         return num_text(std::round(*n));
     }
 
@@ -156,9 +157,12 @@ public:
     }
 
     // MP(value, bound %, samples[, method[, sigma]]) or a plain number.
-    std::optional<std::string> sampled(const BtItem& it, const std::string& unit) {
+    std::optional<std::string> sampled(const BtItem& it, const std::string& unit, const catalog::ParamDef* p) {
         const BtValue& v = it.value;
-        if (v.kind == BtValue::Kind::number) return with_unit(v.number, unit);
+        if (v.kind == BtValue::Kind::number) {
+            if (!in_range(it, p, v.number, 0, unit)) return std::nullopt;
+            return with_unit(v.number, unit);
+        }
         if (v.kind != BtValue::Kind::call || v.text != "MP" || v.items.empty() || v.items.size() > 5) {
             bad(it, "a number or MP(value, bound%, samples[, method, sigma])");
             return std::nullopt;
@@ -173,7 +177,9 @@ public:
         }
         std::string s = with_unit(a[0], unit);
         const int n = static_cast<int>(std::lround(a[2]));
-        if (a[1] <= 0 || n <= 1) return s;
+        const bool spread = a[1] > 0 && n > 1;
+        if (!in_range(it, p, a[0], spread ? a[1] : 0, unit)) return std::nullopt;
+        if (!spread) return s;
         s += " ±" + num_text(a[1]) + "% samples " + std::to_string(n);
         return s + method(static_cast<int>(std::lround(a[3])), a[4], unit, v.items.size() > 3 ? &v.items[3] : nullptr);
     }
@@ -256,6 +262,33 @@ public:
         for (const auto& [k, v] : choices) list += (list.empty() ? "" : ", ") + k;
         bad(it, "one of " + list);
         return std::nullopt;
+    }
+
+    // Whether the checker will take `value` (±pct %) for `p` as the converted text writes them
+    // (num_text), both ends of the spread in the range too (a magnitude's lower end clipped at 0,
+    // SPEC §3.6); else E0906 at the value.
+    bool in_range(const BtItem& it, const catalog::ParamDef* p, double value, double pct, const std::string& unit) {
+        if (p == nullptr) return true;
+        const auto written = [](double x) { return std::strtod(num_text(x).c_str(), nullptr); };
+        const double v = written(value), delta = std::fabs(v) * written(pct) / 100;
+        double lo = v - delta;
+        if (p->min >= 0 && lo < 0 && v >= 0) lo = 0;
+        for (const double x : {v, lo, v + delta}) {
+            if (p->accepts(x)) continue;
+            const std::string u = unit.empty() ? "" : " " + unit;
+            std::string allowed = (p->min_exclusive ? "more than " : "") + catalog::format_number(p->min) + u + " to " +
+                                  catalog::format_number(p->max) + u;
+            if (std::isinf(p->min)) allowed = "at most " + catalog::format_number(p->max) + u;
+            if (std::isinf(p->max)) allowed = (p->min_exclusive ? "more than " : "at least ") + catalog::format_number(p->min) + u;
+            const std::string what = x == v ? "value " + catalog::format_number(x) + u + " is"
+                                            : "value " + catalog::format_number(v) + u + " ±" + catalog::format_number(written(pct)) +
+                                                  "% reaches " + catalog::format_number(x) + u + ", which is";
+            diags_.error("E0906", it.value.range, what + " out of range" + (it.key ? " for '" + *it.key + "'" : std::string()) +
+                                                      " (sdv's " + p->name + ")")
+                .notes.push_back({{}, "allowed: " + allowed});
+            return false;
+        }
+        return true;
     }
 
     void bad(const BtItem& it, const std::string& expected) {
@@ -467,9 +500,9 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
         }
         std::optional<std::string> text;
         switch (f.conv) {
-            case Conv::sampled: text = val.sampled(*it, unit_of(*p)); break;
-            case Conv::quantity: text = val.quantity(*it, unit_of(*p)); break;
-            case Conv::integer: text = val.integer(*it); break;
+            case Conv::sampled: text = val.sampled(*it, unit_of(*p), p); break;
+            case Conv::quantity: text = val.quantity(*it, unit_of(*p), p); break;
+            case Conv::integer: text = val.integer(*it, p); break;
             case Conv::boolean: text = val.boolean(*it); break;
             case Conv::side: text = val.side(*it); break;
             case Conv::vehicle: text = val.vehicle_id(*it); break;
@@ -488,7 +521,8 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
                 }
                 static const char* kNames[] = {"delta_s", "delta_v", "delta_a"};
                 for (size_t i = 0; i < v.items.size(); ++i) {
-                    auto q = val.quantity(v.items[i], unit_of(*m->find_param(kNames[i])));
+                    const catalog::ParamDef* d = m->find_param(kNames[i]);
+                    auto q = val.quantity(v.items[i], unit_of(*d), d);
                     if (q) out.push_back({kNames[i], *q});
                 }
                 continue;
@@ -572,6 +606,14 @@ struct CondMap {
     CondLower lower;
 };
 
+// The parameter `arg` of the catalog's condition `cond`, whose range bounds the value written for
+// it; nullptr (no bound) when the catalog has no such pair, which the converted text's compilation
+// would then report.
+const catalog::ParamDef* cond_param(const char* cond, const char* arg) {
+    const catalog::ConditionDef* c = catalog::find_condition(cond);
+    return c != nullptr ? c->find_param(arg) : nullptr;
+}
+
 void opt(std::vector<Arg>& out, const char* name, const std::optional<std::string>& text) {
     if (text) out.push_back({name, *text});
 }
@@ -610,8 +652,8 @@ const std::vector<CondMap>& condition_map() {
                      o.args.push_back({"before", with_unit(*n + 0.2, "s")});
                  }
              }
-             if (const auto* t = a.take({"tmin"})) opt(o.args, "after", v.quantity(*t, "s"));
-             if (const auto* t = a.take({"tmax"})) opt(o.args, "before", v.quantity(*t, "s"));
+             if (const auto* t = a.take({"tmin"})) opt(o.args, "after", v.quantity(*t, "s", cond_param("sim_time", "after")));
+             if (const auto* t = a.take({"tmax"})) opt(o.args, "before", v.quantity(*t, "s", cond_param("sim_time", "before")));
              if (o.args.empty()) o.args.push_back({"after", "0 s"});
              o.once = repeat_false(a, v);
          }},
@@ -619,7 +661,7 @@ const std::vector<CondMap>& condition_map() {
          [](Args& a, Values& v, CondOut& o) {
              o.name = "reached_goal";
              const auto* d = a.take({"distance"});
-             o.args.push_back({"distance", d ? v.quantity(*d, "m").value_or("40 m") : "40 m"});
+             o.args.push_back({"distance", d ? v.quantity(*d, "m", cond_param("reached_goal", "distance")).value_or("40 m") : "40 m"});
          }},
         {"at_lane_change_segment", {}, [](Args&, Values&, CondOut& o) { o.name = "at_lane_change_segment"; }},
         {"target_lane", {"lid"},
@@ -643,7 +685,7 @@ const std::vector<CondMap>& condition_map() {
              o.name = "can_lane_change";
              if (const auto* it = a.take({"lid", "target_lid", "target_lane_id", "target_lane"})) opt(o.args, "lane", v.side(*it));
              const auto* g = a.take({"gap", "distance_gap"});
-             o.args.push_back({"gap", g ? v.quantity(*g, "m").value_or("20 m") : "20 m"});
+             o.args.push_back({"gap", g ? v.quantity(*g, "m", cond_param("can_lane_change", "gap")).value_or("20 m") : "20 m"});
          }},
         {"lane_occupied", {"zid", "lid", "distance"},
          [](Args& a, Values& v, CondOut& o) {
@@ -656,7 +698,7 @@ const std::vector<CondMap>& condition_map() {
              } else if (const auto* l = a.take({"lid"})) {
                  opt(o.args, "lane", v.side(*l));
              }
-             if (const auto* d = a.take({"distance"})) opt(o.args, "distance", v.quantity(*d, "m"));
+             if (const auto* d = a.take({"distance"})) opt(o.args, "distance", v.quantity(*d, "m", cond_param("lane_occupied", "distance")));
              // The reference's lane occupancy holds vehicles only: static objects are avoided
              // by the planner's collision check, not followed.
              o.args.push_back({"objects", "false"});
@@ -666,14 +708,14 @@ const std::vector<CondMap>& condition_map() {
              o.name = "vehicle_moving";
              vehicle_arg(a, v, o);
              const auto* s = a.take({"vel"});
-             o.args.push_back({"min_speed", s ? v.quantity(*s, "m/s").value_or("0.05 m/s") : "0.05 m/s"});
+             o.args.push_back({"min_speed", s ? v.quantity(*s, "m/s", cond_param("vehicle_moving", "min_speed")).value_or("0.05 m/s") : "0.05 m/s"});
          }},
         {"vehicle_stopped", {"vid", "zid", "vel"},
          [](Args& a, Values& v, CondOut& o) {
              o.name = "vehicle_stopped";
              vehicle_arg(a, v, o);
              const auto* s = a.take({"vel"});
-             o.args.push_back({"max_speed", s ? v.quantity(*s, "m/s").value_or("0.05 m/s") : "0.05 m/s"});
+             o.args.push_back({"max_speed", s ? v.quantity(*s, "m/s", cond_param("vehicle_stopped", "max_speed")).value_or("0.05 m/s") : "0.05 m/s"});
          }},
         {"vehicle_parked", {"vid", "zid"},
          [](Args& a, Values& v, CondOut& o) {
@@ -692,7 +734,7 @@ const std::vector<CondMap>& condition_map() {
          [](Args& a, Values& v, CondOut& o) {
              o.name = "approaching_stop";
              const auto* d = a.take({"distance"});
-             o.args.push_back({"distance", d ? v.quantity(*d, "m").value_or("30 m") : "30 m"});
+             o.args.push_back({"distance", d ? v.quantity(*d, "m", cond_param("approaching_stop", "distance")).value_or("30 m") : "30 m"});
              // The reference looks for the stop position of a regulated intersection (right of
              // way, all-way stop, traffic light): a stop line or a junction entry.
              o.args.push_back({"kind", "any"});
@@ -701,7 +743,7 @@ const std::vector<CondMap>& condition_map() {
          [](Args& a, Values& v, CondOut& o) {
              o.name = "approaching_stop";
              const auto* d = a.take({"threshold"});
-             o.args.push_back({"distance", d ? v.quantity(*d, "m").value_or("30 m") : "30 m"});
+             o.args.push_back({"distance", d ? v.quantity(*d, "m", cond_param("approaching_stop", "distance")).value_or("30 m") : "30 m"});
              o.args.push_back({"kind", "stop_line"});
          }},
         {"intersection_type", {"type"},
@@ -720,7 +762,7 @@ const std::vector<CondMap>& condition_map() {
         {"intersection_occupied", {"distance"},
          [](Args& a, Values& v, CondOut& o) {
              o.name = "intersection_occupied";
-             if (const auto* d = a.take({"distance"})) opt(o.args, "distance", v.quantity(*d, "m"));
+             if (const auto* d = a.take({"distance"})) opt(o.args, "distance", v.quantity(*d, "m", cond_param("intersection_occupied", "distance")));
          }},
         {"aws_yielding", {}, [](Args&, Values&, CondOut& o) {
              // The reference's driver, after 5 s at the line, goes out of turn with probability
@@ -735,12 +777,12 @@ const std::vector<CondMap>& condition_map() {
              if (const auto* c = a.take({"color"})) {
                  opt(o.args, "state", v.constant(*c, {{"RED", "red"}, {"YELLOW", "yellow"}, {"GREEN", "green"}}));
              }
-             if (const auto* d = a.take({"threshold"})) opt(o.args, "distance", v.quantity(*d, "m"));
+             if (const auto* d = a.take({"threshold"})) opt(o.args, "distance", v.quantity(*d, "m", cond_param("traffic_light", "distance")));
          }},
         {"wait", {"time"},
          [](Args& a, Values& v, CondOut& o) {
              o.name = "wait";
-             if (const auto* t = a.take({"time"})) opt(o.args, "time", v.quantity(*t, "s"));
+             if (const auto* t = a.take({"time"})) opt(o.args, "time", v.quantity(*t, "s", cond_param("wait", "time")));
          }},
         {"gap", {"vid", "zid", "lid", "distance", "time"},
          [](Args& a, Values& v, CondOut& o) {
@@ -748,24 +790,30 @@ const std::vector<CondMap>& condition_map() {
              if (!vehicle_arg(a, v, o)) {
                  if (const auto* l = a.take({"lid"})) opt(o.args, "lane", v.side(*l));
              }
-             if (const auto* d = a.take({"distance"})) opt(o.args, "min", v.quantity(*d, "m"));
-             if (const auto* t = a.take({"time"})) opt(o.args, "time_max", v.quantity(*t, "s"));
+             const auto* d = a.take({"distance"});
+             const auto* t = a.take({"time"});
+             if (d) opt(o.args, "min", v.quantity(*d, "m", cond_param("gap", "min")));
+             if (t) opt(o.args, "time_max", v.quantity(*t, "s", cond_param("gap", "time_max")));
+             if (!d && !t) o.unsupported = "sdv's gap condition compares the gap with a distance or a time: give 'distance' or 'time'";
          }},
         {"reached_gap", {"vid", "zid", "distance", "repeat"},
          [](Args& a, Values& v, CondOut& o) {
              o.name = "gap";
              vehicle_arg(a, v, o);
-             if (const auto* d = a.take({"distance"})) opt(o.args, "max", v.quantity(*d, "m"));
+             const auto* d = a.take({"distance"});
+             if (d) opt(o.args, "max", v.quantity(*d, "m", cond_param("gap", "max")));
+             if (!d) o.unsupported = "sdv's gap condition compares the gap with a distance: give 'distance'";
              o.once = repeat_false(a, v);
          }},
     };
     return k;
 }
 
-// A distance condition of the reference's pedestrians: `threshold` (default `def`) in metres.
-std::string threshold(Args& a, Values& v, const char* def) {
+// A distance condition of the reference's pedestrians: `threshold` (default `def`) in metres,
+// the `distance` of sdv's condition `cond`.
+std::string threshold(Args& a, Values& v, const char* cond, const char* def) {
     const auto* t = a.take({"threshold"});
-    return t ? v.quantity(*t, "m").value_or(def) : std::string(def);
+    return t ? v.quantity(*t, "m", cond_param(cond, "distance")).value_or(def) : std::string(def);
 }
 
 // The conditions of the reference's pedestrians (sp/btree/BehaviorModels.py test_condition) on
@@ -777,7 +825,7 @@ const std::vector<CondMap>& pedestrian_condition_map() {
         {"reached_goal", {"threshold"},
          [](Args& a, Values& v, CondOut& o) {
              o.name = "reached_goal";
-             o.args.push_back({"distance", threshold(a, v, "1 m")});
+             o.args.push_back({"distance", threshold(a, v, "reached_goal", "1 m")});
          }},
         {"has_target_crosswalk", {},
          [](Args&, Values&, CondOut& o) {
@@ -788,12 +836,12 @@ const std::vector<CondMap>& pedestrian_condition_map() {
         {"approaching_crosswalk", {"threshold"},
          [](Args& a, Values& v, CondOut& o) {
              o.name = "approaching_crosswalk";
-             o.args.push_back({"distance", threshold(a, v, "3 m")});
+             o.args.push_back({"distance", threshold(a, v, "approaching_crosswalk", "3 m")});
          }},
         {"reached_crosswalk_entrance", {"threshold"},
          [](Args& a, Values& v, CondOut& o) {
              o.name = "at_crosswalk_entrance";
-             o.args.push_back({"distance", threshold(a, v, "1.5 m")});
+             o.args.push_back({"distance", threshold(a, v, "at_crosswalk_entrance", "1.5 m")});
          }},
         {"waiting_at_crosswalk_entrance", {},
          [](Args&, Values&, CondOut& o) {
@@ -805,11 +853,11 @@ const std::vector<CondMap>& pedestrian_condition_map() {
         {"reached_crosswalk_exit", {"threshold"},
          [](Args& a, Values& v, CondOut& o) {
              o.name = "crosswalk_exit_reached";
-             o.args.push_back({"distance", threshold(a, v, "1.5 m")});
+             o.args.push_back({"distance", threshold(a, v, "crosswalk_exit_reached", "1.5 m")});
          }},
         {"reached_curr_waypoint", {"threshold"},
          [](Args& a, Values& v, CondOut& o) {
-             const std::string d = threshold(a, v, "1 m");
+             const std::string d = threshold(a, v, "crosswalk_exit_reached", "1 m");
              o.comment = "reached_curr_waypoint(): its waypoint is the target crosswalk's entrance, its far end, or the goal";
              o.any_of = {"condition at_crosswalk_entrance(distance = " + d + ")",
                          "condition crosswalk_exit_reached(distance = " + d + ")", "condition reached_goal(distance = " + d + ")"};
@@ -1126,6 +1174,12 @@ const BtreeLibrary::Lowered* BtreeLibrary::lower_file(const std::string& path, d
     const std::string body = lower_node(tree.root, 1, t);
     in_progress_.erase(key);
     if (diags_.error_count() > before) return nullptr;
+    if (!t.lowered.selects) {
+        // The .sdv checker's E0404: a tree (each subtree too) selects a maneuver on some path.
+        diags_.error("E0913", tree.name_range, "the behavior tree '" + tree.name + "' never selects a maneuver, which sdv's trees must")
+            .notes.push_back({{}, "give it a maneuver node, or a subtree that has one"});
+        return nullptr;
+    }
     text_ += "# " + fs::path(path).filename().string() + ": GeoScenario behavior tree '" + tree.name + "'\n";
     text_ += "tree " + name + "() {\n" + body + "}\n\n";
     return &(done_[key] = std::move(t.lowered));
@@ -1183,6 +1237,7 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
         }
         t.lowered.nodes[n.label].push_back(std::move(info));
         t.lowered.order.push_back({n.label, t.lowered.nodes[n.label].size() - 1, "", nullptr, {}});
+        t.lowered.selects = true;
         s += ")\n";
         if (cm->then != nullptr) s += inner + cm->then + "\n" + ind + "}\n";
         return s;
@@ -1217,7 +1272,10 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
     if (!out.comment.empty()) s += ind + "# " + out.comment + "\n";
     if (!out.any_of.empty()) {
         s += ind + label + ": fallback {\n";
-        for (const auto& alt : out.any_of) s += ind + "    " + alt + "\n";
+        for (const auto& alt : out.any_of) {
+            s += ind + "    " + alt + "\n";
+            if (alt.rfind("maneuver ", 0) == 0) t.lowered.selects = true;
+        }
         return s + ind + "}\n";
     }
     s += ind + (out.once ? "once " : "") + (out.negate ? "not " : "") + label + ": condition " + out.name + "(";
@@ -1264,6 +1322,7 @@ std::string BtreeLibrary::lower_subtree(const BtNode& n, BtAgent agent, TreeStat
         add_named(n.label, n.label_range, agent);  // reports E0905
     }
     if (sub == nullptr) return "";
+    if (t != nullptr && sub->selects) t->lowered.selects = true;
     // Overrides: NODE=MConfigClass(...) replaces the configuration of the first node of that
     // name (BTreeInterpreter.reconfigure_nodes): fields the trees set and the override leaves
     // out fall back to the catalog defaults. A subtree reference in a .btree reaches the

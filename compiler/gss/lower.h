@@ -87,6 +87,7 @@ private:
         // Original node name → the .sdv nodes carrying it (names may repeat in a .btree).
         std::map<std::string, std::vector<NodeInfo>> nodes;
         std::vector<Item> order;
+        bool selects = false;  // some leaf of it, or of a tree it uses, is a .sdv maneuver
     };
     struct TreeState;
     // A node found by its .btree name: its .sdv override path (`sub.label.`) and the fields

@@ -130,7 +130,14 @@ public:
             } else if (what == "origin") {
                 sc.origin = p;
                 sc.has_origin = true;
-                if (auto a = tags.find("altitude"); a != tags.end()) sc.origin_alt = number(a->second, "origin", "altitude").value_or(0);
+                if (auto a = tags.find("altitude"); a != tags.end()) {
+                    const auto alt = number(a->second, "origin", "altitude");
+                    if (alt && (*alt < catalog::kMinAltitude || *alt > catalog::kMaxAltitude)) {
+                        diags_.error("E0911", a->second.range, "origin: tag 'altitude' must be in [" + catalog::format_number(catalog::kMinAltitude) +
+                                                                    ", " + catalog::format_number(catalog::kMaxAltitude) + "] m (" + a->second.value + ")");
+                    }
+                    sc.origin_alt = alt.value_or(0);
+                }
             } else if (what == "vehicle") {
                 read_vehicle(n, tags, p, sc);
             } else if (what == "pedestrian") {
@@ -204,8 +211,11 @@ public:
                     const std::string who = "path '" + *name + "', node " + std::to_string(ref);
                     if (auto sp = ntags.find("agentspeed"); sp != ntags.end()) {
                         pn.speed = number(sp->second, who, "agentspeed");
-                        if (pn.speed && *pn.speed < 0) {
-                            diags_.error("E0911", sp->second.range, who + ": tag 'agentspeed' must not be negative");
+                        // km/h, as the .sdv path point speed writes it (at most 100 m/s).
+                        if (pn.speed && (*pn.speed < 0 || *pn.speed > catalog::kMaxWaypointSpeed * 3.6)) {
+                            diags_.error("E0911", sp->second.range,
+                                         who + ": tag 'agentspeed' must be in [0, " + catalog::format_number(catalog::kMaxWaypointSpeed * 3.6) +
+                                             "] km/h (" + sp->second.value + ")");
                             pn.speed.reset();
                         }
                     }
@@ -222,8 +232,32 @@ public:
                                                                    " has no 'time' tag");
                         continue;
                     }
-                    t.time = number(time->second, "trajectory '" + *name + "'", "time").value_or(0);
-                    if (auto sp = ntags.find("speed"); sp != ntags.end()) t.speed = number(sp->second, "trajectory '" + *name + "'", "speed");
+                    // Times as the .sdv trajectory has them: 0 to a day, increasing along the
+                    // way (in the milliseconds the converted text writes).
+                    const std::string who = "trajectory '" + *name + "', node " + std::to_string(ref);
+                    const auto when = number(time->second, who, "time");
+                    if (!when) continue;
+                    if (*when < 0 || *when > catalog::kMaxScenarioTime) {
+                        diags_.error("E0911", time->second.range, who + ": tag 'time' must be in [0, " +
+                                                                      catalog::format_number(catalog::kMaxScenarioTime) + "] s (" + time->second.value + ")");
+                        continue;
+                    }
+                    t.time = *when;
+                    if (!tnodes.empty() && std::round(t.time * 1000) <= std::round(tnodes.back().time * 1000)) {
+                        auto& e = diags_.error("E0911", time->second.range,
+                                               who + ": its time (" + catalog::format_number(t.time) + " s) is not after the node before it (" +
+                                                   catalog::format_number(tnodes.back().time) + " s)");
+                        e.notes.push_back({{}, "a trajectory's times increase along its way, by at least 1 ms"});
+                        continue;
+                    }
+                    if (auto sp = ntags.find("speed"); sp != ntags.end()) {
+                        t.speed = number(sp->second, who, "speed");
+                        if (t.speed && (*t.speed < 0 || *t.speed > catalog::kMaxWaypointSpeed)) {
+                            diags_.error("E0911", sp->second.range, who + ": tag 'speed' must be in [0, " +
+                                                                          catalog::format_number(catalog::kMaxWaypointSpeed) + "] m/s (" + sp->second.value + ")");
+                            t.speed.reset();
+                        }
+                    }
                     tnodes.push_back(t);
                 }
             }
@@ -377,6 +411,18 @@ private:
         return v;
     }
 
+    // A time the converted text writes in milliseconds: at least 1 ms, at most a day.
+    static bool is_duration(double v) { return std::round(v * 1000) >= 1 && v <= catalog::kMaxScenarioTime; }
+    std::optional<double> duration(const Tag& t, const std::string& who, const char* key) {
+        auto v = number(t, who, key);
+        if (v && !is_duration(*v)) {
+            diags_.error("E0911", t.range, who + ": tag '" + key + "' must be in [0.001, " + catalog::format_number(catalog::kMaxScenarioTime) +
+                                               "] s (" + t.value + ")");
+            return std::nullopt;
+        }
+        return v;
+    }
+
     // A length or width: positive, and at most what the agent may measure (catalog::AgentSize).
     std::optional<double> size(const Tag& t, const std::string& who, const char* key, double max, const char* agent) {
         auto v = positive(t, who, key);
@@ -401,7 +447,7 @@ private:
         if (auto v = tags.find("version"); v != tags.end() && v->second.value.rfind('2', 0) != 0) {
             diags_.error("E0910", v->second.range, "GeoScenario version " + v->second.value + " is not supported (only 2.x)");
         }
-        if (auto t = tags.find("timeout"); t != tags.end()) sc.timeout = positive(t->second, "globalconfig", "timeout").value_or(60);
+        if (auto t = tags.find("timeout"); t != tags.end()) sc.timeout = duration(t->second, "globalconfig", "timeout").value_or(60);
         if (auto c = tags.find("collision"); c != tags.end()) sc.collision = yes_no(c->second, "globalconfig", "collision").value_or(true);
         auto map = tags.find("lanelet");
         if (map == tags.end() || map->second.value.empty()) {
@@ -655,8 +701,9 @@ private:
         for (std::string s; std::getline(ds, s, ',');) {
             char* end = nullptr;
             const double d = std::strtod(s.c_str(), &end);
-            if (end == s.c_str() || !std::isfinite(d) || d <= 0) {
-                diags_.error("E0911", durations->second.range, who + ": duration '" + s + "' is not a positive number");
+            if (end == s.c_str() || !std::isfinite(d) || !is_duration(d)) {
+                diags_.error("E0911", durations->second.range,
+                             who + ": duration '" + s + "' is not a number of seconds in [0.001, " + catalog::format_number(catalog::kMaxScenarioTime) + "]");
                 return;
             }
             l.durations.push_back(d);
@@ -766,6 +813,11 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
         auto& d = diags.error("E0912", sc->map_range, "map '" + sc->map + "' not found");
         d.notes.push_back({{}, "looked in the --map-dir directories, then beside the scenario and in its parent directories"});
         d.notes.push_back({{}, "give the directory holding it with --map-dir DIR"});
+        return std::nullopt;
+    }
+    if (!syntax::fits_string_literal(relative_to(*map, options.out_dir))) {
+        diags.error("E0911", sc->map_range, "map '" + comment_text(map->string()) + "': its path is not valid UTF-8 or has a line break, so .sdv text cannot name it")
+            .notes.push_back({{}, "rename the map file, or the directories of its path"});
         return std::nullopt;
     }
 

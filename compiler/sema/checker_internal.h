@@ -51,7 +51,7 @@ struct TypeInfo {
 };
 
 // Numbers and units in messages (values.cpp).
-std::string fmt(double v);
+constexpr auto fmt = catalog::format_number;
 std::string with_unit(double si, Dim dim);
 std::string dim_phrase(Dim dim);
 std::string example_unit(Dim dim);

@@ -333,7 +333,7 @@ void Checker::check_map(const ast::MapDecl& m, RoadSym& sym) {
         } else {
             auto lat = setting_number(*s, 0, Dim::none, -90, 90, false);
             auto lon = setting_number(*s, 1, Dim::none, -180, 180, false);
-            auto alt = s->values.size() > 2 ? setting_number(*s, 2, Dim::length, -1000, 10000, false)
+            auto alt = s->values.size() > 2 ? setting_number(*s, 2, Dim::length, catalog::kMinAltitude, catalog::kMaxAltitude, false)
                                             : std::optional<double>(0.0);
             if (lat && lon && alt) {
                 road.origin_lat = *lat;

@@ -50,7 +50,7 @@ void Checker::check_scenario(const ast::ScenarioDecl& written, ir::Program& prog
         auto* d = error("E0501", s.name.range, where + " has no road");
         d->notes.push_back({{}, "add 'road NAME' naming a road, junction or map"});
     }
-    read_setting(set, "timeout", Dim::time, 0, 86400, true, sc.timeout);
+    read_setting(set, "timeout", Dim::time, 0, catalog::kMaxScenarioTime, true, sc.timeout);
     if (auto* t = set["seed"]) {
         // Parsed from the text: a double would round seeds above 2^53.
         const std::string& text = t->values[0].lo.quantity.text;
@@ -322,7 +322,7 @@ ir::Vehicle Checker::check_vehicle(const ast::VehicleDecl& v, ScenarioCtx& ctx,
                 ParamDef tdef;
                 tdef.dim = Dim::time;
                 tdef.min = 0;
-                tdef.max = 86400;
+                tdef.max = catalog::kMaxScenarioTime;
                 Eval t = eval(w.time, nullptr, {ParamType::quantity, Dim::time}, "the waypoint time", &tdef);
                 if (t.kind == Eval::Kind::number) {
                     check_range(t, tdef, "the waypoint time");
@@ -380,7 +380,7 @@ std::optional<double> Checker::check_speed(const ast::Value& v, const std::strin
     ParamDef def;
     def.dim = Dim::speed;
     def.min = 0;
-    def.max = 100;
+    def.max = catalog::kMaxWaypointSpeed;
     Eval sp = eval(v, nullptr, {ParamType::quantity, Dim::speed}, what, &def);
     if (sp.kind == Eval::Kind::number && check_range(sp, def, what)) return sp.num.value;
     return std::nullopt;
@@ -470,14 +470,14 @@ void Checker::check_light(const ast::LightDecl& l, ScenarioCtx& ctx) {
             add_suggestion(*d, st, {"red", "yellow", "green"});
             continue;
         }
-        if (auto v = setting_number(ph, 0, Dim::time, 0, 86400, true)) out.phases.push_back({st, *v});
+        if (auto v = setting_number(ph, 0, Dim::time, 0, catalog::kMaxScenarioTime, true)) out.phases.push_back({st, *v});
     }
     if (l.phases.empty()) error("E0401", l.name.range, "light program without phases");
     if (l.offset) {
         ParamDef def;
         def.dim = Dim::time;
         def.min = 0;
-        def.max = 86400;
+        def.max = catalog::kMaxScenarioTime;
         Eval e = eval(*l.offset, nullptr, {ParamType::quantity, Dim::time}, "the offset", &def);
         if (e.kind == Eval::Kind::number && check_range(e, def, "the offset")) out.offset = e.num.value;
     }

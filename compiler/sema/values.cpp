@@ -4,18 +4,11 @@
 // messages print numbers, units and types.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "compiler/diag/suggest.h"
 #include "compiler/sema/checker_internal.h"
 
 namespace sdv::compiler::sema {
-
-std::string fmt(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
-    return buf;
-}
 
 std::string with_unit(double si, Dim dim) {
     std::string u(catalog::si_unit(dim));
@@ -392,8 +385,7 @@ bool Checker::check_range(const Eval& e, const ParamDef& def, const std::string&
     ir::Sampled s = e.num;
     if (def.min >= 0 && s.lo < 0 && s.value >= 0) s.lo = 0;
     for (double x : {s.value, s.lo, s.hi}) {
-        const bool below = def.min_exclusive ? !(x > def.min) : !(x >= def.min);
-        if (!std::isfinite(x) || below || !(x <= def.max)) {
+        if (!def.accepts(x)) {
             std::string allowed = (def.min_exclusive ? "more than " : "") +
                                   with_unit(def.min, def.dim) + " to " +
                                   with_unit(def.max, def.dim);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "compiler/syntax/parser.h"
+#include "compiler/syntax/utf8.h"
 
 namespace sdv::compiler::syntax {
 namespace {
@@ -347,14 +348,16 @@ std::string string_literal(const std::string& s) {
     return out + "\"";
 }
 
+bool fits_string_literal(const std::string& s) {
+    return s.find_first_of("\r\n") == std::string::npos && find_invalid_utf8(s) == std::string::npos;
+}
+
 std::string comment_text(const std::string& raw) {
     std::string out;
     for (size_t i = 0; i < raw.size();) {
         const auto c = static_cast<unsigned char>(raw[i]);
-        const size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
-        bool valid = n > 0 && i + n <= raw.size();
-        for (size_t k = 1; valid && k < n; ++k) valid = (static_cast<unsigned char>(raw[i + k]) >> 6) == 0x2;
-        if (!valid) {
+        const size_t n = utf8_sequence_length(raw, i);
+        if (n == 0) {
             out += '?';
             ++i;
         } else if (n == 1 && (c < 0x20 || c == 0x7f)) {

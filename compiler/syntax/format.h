@@ -19,6 +19,9 @@ std::optional<std::string> format(diag::FileId file, const diag::SourceManager& 
 // `s` as a .sdv string literal: in double quotes, with '"' and '\\' escaped (what the front ends
 // that write .sdv text, GeoScenario and recorded traffic, put around names and paths).
 std::string string_literal(const std::string& s);
+// Whether string_literal(s) reads back as `s`: valid UTF-8 without line breaks (a .sdv string
+// holds nothing else, escaped or not).
+bool fits_string_literal(const std::string& s);
 
 // Text from an input file put into a `#` comment of generated .sdv text: one line of valid UTF-8,
 // whatever the file holds. Control characters (line breaks included) become spaces and bytes

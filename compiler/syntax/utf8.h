@@ -8,6 +8,10 @@
 
 namespace sdv::compiler::syntax {
 
+// The length in bytes of the UTF-8 sequence at byte `i` of `s` (i < s.size()), 1 to 4; 0 when it
+// is not valid UTF-8 (a stray or truncated byte, an overlong form, a surrogate, beyond U+10FFFF).
+size_t utf8_sequence_length(std::string_view s, size_t i);
+
 // Returns the byte offset of the first invalid UTF-8 sequence, or npos.
 size_t find_invalid_utf8(std::string_view s);
 

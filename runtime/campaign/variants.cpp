@@ -3,7 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+
+#include "runtime/catalog/catalog.h"
 
 namespace sdv::campaign {
 namespace {
@@ -22,12 +23,6 @@ double uniform(uint64_t seed, uint64_t a, uint64_t b, uint64_t c) {
 }
 
 double normal_cdf(double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); }
-
-std::string number(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
-    return buf;
-}
 
 }  // namespace
 
@@ -148,7 +143,7 @@ std::string describe(const ir::Vary& vary, const std::vector<double>& values) {
     std::string out;
     for (size_t k = 0; k < vary.params.size() && k < values.size(); ++k) {
         const auto& p = vary.params[k];
-        out += (k ? ", " : "") + p.name + " = " + number(values[k]) + (p.unit.empty() ? "" : " " + p.unit);
+        out += (k ? ", " : "") + p.name + " = " + catalog::format_number(values[k]) + (p.unit.empty() ? "" : " " + p.unit);
     }
     return out;
 }

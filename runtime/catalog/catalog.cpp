@@ -609,14 +609,14 @@ const T* find_by_name(std::span<const T> items, std::string_view name) {
     return nullptr;
 }
 
-std::string fmt_number(double v) {
+}  // namespace
+
+std::string format_number(double v) {
     if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.6g", v);
     return buf;
 }
-
-}  // namespace
 
 std::string_view to_string(Agent agent) {
     switch (agent) {
@@ -682,14 +682,14 @@ std::string format_default(const ParamDef& p) {
     const DefaultValue& d = *p.def;
     switch (p.type) {
         case ParamType::boolean: return d.value != 0 ? "true" : "false";
-        case ParamType::integer: return fmt_number(d.value);
+        case ParamType::integer: return format_number(d.value);
         case ParamType::choice: return p.choices.at(static_cast<size_t>(d.value));
         case ParamType::vehicle: return "";
         case ParamType::quantity: break;
     }
-    std::string s = fmt_number(d.value);
+    std::string s = format_number(d.value);
     if (auto u = si_unit(p.dim); !u.empty()) s += " " + std::string(u);
-    if (d.spread_pct > 0) s += " ±" + fmt_number(d.spread_pct) + "%";
+    if (d.spread_pct > 0) s += " ±" + format_number(d.spread_pct) + "%";
     if (d.samples > 1) s += " samples " + std::to_string(d.samples);
     return s;
 }
@@ -713,8 +713,8 @@ std::string range_label(const ParamDef& p) {
     if (p.type != ParamType::quantity && p.type != ParamType::integer) return "";
     if (std::isinf(p.min) && std::isinf(p.max)) return "";
     std::string unit(si_unit(p.dim));
-    std::string s = (p.min_exclusive ? "(" : "[") + fmt_number(p.min) + ", " +
-                    fmt_number(p.max) + "]";
+    std::string s = (p.min_exclusive ? "(" : "[") + format_number(p.min) + ", " +
+                    format_number(p.max) + "]";
     if (!unit.empty()) s += " " + unit;
     return s;
 }
@@ -909,7 +909,7 @@ std::string render_markdown() {
     }
     out << "\n## Units\n\n| unit | dimension | factor to SI |\n|---|---|---|\n";
     for (const auto& u : all_units()) {
-        out << "| `" << u.spelling << "` | " << to_string(u.dim) << " | " << fmt_number(u.to_si)
+        out << "| `" << u.spelling << "` | " << to_string(u.dim) << " | " << format_number(u.to_si)
             << " |\n";
     }
     out << "\nASCII spellings: `m/s^2`, `m/s2` and `m/s²` are the same unit; `+-` is `±`.\n";
@@ -919,7 +919,7 @@ std::string render_markdown() {
            "they read replays as a scenario.\n\n"
         << "| agent | length | width |\n|---|---|---|\n";
     for (const auto& [agent, size] : kAgentSizes) {
-        out << "| " << agent << " | " << fmt_number(size.length) << " m | " << fmt_number(size.width) << " m |\n";
+        out << "| " << agent << " | " << format_number(size.length) << " m | " << format_number(size.width) << " m |\n";
     }
     return out.str();
 }

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include <cmath>
 #include <limits>
 #include <optional>
 #include <span>
@@ -40,6 +41,14 @@ struct AgentSize {
 inline constexpr AgentSize kMaxVehicleSize{30, 5};     // a vehicle: up to a long articulated bus
 inline constexpr AgentSize kMaxPedestrianSize{2, 2};   // a pedestrian: a disc of the larger of the two
 inline constexpr AgentSize kMaxObjectSize{100, 5};     // a static object: a long barrier, a parked convoy
+
+// Values a scenario states outside the parameters below, as the checker accepts them and the
+// GeoScenario converter writes them: a time (a timeout, a light phase or offset, a waypoint's
+// time) up to a day; a waypoint's or path point's speed, 0 to 100 m/s; a map origin's altitude.
+inline constexpr double kMaxScenarioTime = 86400;  // s
+inline constexpr double kMaxWaypointSpeed = 100;   // m/s
+inline constexpr double kMinAltitude = -1000;      // m
+inline constexpr double kMaxAltitude = 10000;      // m
 
 // A default that may itself be a sampled range: value ±spread_pct % with `samples` points.
 struct DefaultValue {
@@ -84,6 +93,9 @@ struct ParamDef {
     ConfigField field = ConfigField::none;  // maneuver parameters: what it configures
 
     bool required() const { return !def.has_value() && !optional; }
+
+    // Whether the SI value `x` is in the allowed range (finite, above min, at most max).
+    bool accepts(double x) const { return std::isfinite(x) && (min_exclusive ? x > min : x >= min) && x <= max; }
 };
 
 // Who a leaf is for: a vehicle's tree (SDV), a pedestrian's tree (SDP), or either.
@@ -220,5 +232,8 @@ std::string render_markdown();
 nlohmann::ordered_json to_json();
 // Formats an SI value in the parameter's display unit ("14 m/s ±10 % × 3").
 std::string format_default(const ParamDef& p);
+// A number as the catalog and the messages about its limits print it: six significant
+// digits, no trailing zeros ("30", "2.5", "1e+06", "inf").
+std::string format_number(double v);
 
 }  // namespace sdv::catalog

@@ -2,7 +2,6 @@
 #include "runtime/io/junit.h"
 
 #include <cmath>
-#include <cstdio>
 
 #include "runtime/catalog/catalog.h"
 
@@ -27,11 +26,7 @@ std::string esc(const std::string& s) {
     return out;
 }
 
-std::string num(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
-    return buf;
-}
+constexpr auto num = catalog::format_number;
 
 std::string unit_of(const ir::Scenario& s, size_t root) {
     const auto& e = s.expects[static_cast<size_t>(s.expect_roots[root])];

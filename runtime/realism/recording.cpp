@@ -19,14 +19,8 @@ constexpr double kMaxTime = 1e6;        // s
 
 constexpr auto number = road::parse_number;
 using road::read_file;
+using catalog::format_number;
 using Lines = road::XmlLines;
-
-// A size limit as the messages print it: 30, 2.5.
-std::string fmt_m(double v) {
-    std::ostringstream o;
-    o << v;
-    return o.str();
-}
 
 // The value of a CommonRoad state field: <field><exact>v</exact></field>; an interval or a
 // missing value is nullopt (`why` says which).
@@ -128,8 +122,8 @@ Recording parse_commonroad(const std::string& xml, const std::string& path) {
         if (const auto rect = shape.child("rectangle")) {
             const auto l = number(rect.child_value("length")), w = number(rect.child_value("width"));
             if (!l || !w || !(*l > 0) || !(*w > 0) || *l > max.length || *w > max.width) {
-                r.errors.push_back(where + "its rectangle needs a length in (0, " + fmt_m(max.length) + "] m and a width in (0, " +
-                                   fmt_m(max.width) + "] m, the size of " + kind + " (" + tr.type + ")");
+                r.errors.push_back(where + "its rectangle needs a length in (0, " + format_number(max.length) + "] m and a width in (0, " +
+                                   format_number(max.width) + "] m, the size of " + kind + " (" + tr.type + ")");
                 continue;
             }
             tr.length = *l;
@@ -138,7 +132,7 @@ Recording parse_commonroad(const std::string& xml, const std::string& path) {
             const auto rad = number(circle.child_value("radius"));
             const double max_radius = std::min(max.length, max.width) / 2;
             if (!rad || !(*rad > 0) || *rad > max_radius) {
-                r.errors.push_back(where + "its circle needs a radius in (0, " + fmt_m(max_radius) + "] m, the size of " + kind +
+                r.errors.push_back(where + "its circle needs a radius in (0, " + format_number(max_radius) + "] m, the size of " + kind +
                                    " (" + tr.type + ")");
                 continue;
             }
@@ -328,8 +322,8 @@ Recording parse_interaction(const std::string& csv, const std::string& path) {
             const catalog::AgentSize max = tr.pedestrian() ? catalog::kMaxPedestrianSize : catalog::kMaxVehicleSize;
             const auto l = num("length"), w = num("width");
             if ((l && !(*l > 0 && *l <= max.length)) || (w && !(*w > 0 && *w <= max.width))) {
-                r.errors.push_back(where + "track " + id + ": length and width must be in (0, " + fmt_m(max.length) + "] m and (0, " +
-                                   fmt_m(max.width) + "] m, the size of " + (tr.pedestrian() ? "a pedestrian" : "a vehicle") +
+                r.errors.push_back(where + "track " + id + ": length and width must be in (0, " + format_number(max.length) + "] m and (0, " +
+                                   format_number(max.width) + "] m, the size of " + (tr.pedestrian() ? "a pedestrian" : "a vehicle") +
                                    " (" + tr.type + ")");
                 if (r.errors.size() >= 20) return r;
                 continue;

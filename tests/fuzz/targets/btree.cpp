@@ -3,6 +3,8 @@
 // text; then compile that text), the diagnostics rendered as text and as JSON; and the
 // converted text formatted as `sdv convert` does. Subtrees resolve in the reference's library
 // (../shared/data) when it is there, as with --btree-path.
+//
+// Property: trees the converter accepts compile (no error located in the converted text).
 #include <string>
 
 #include "compiler/diag/render.h"
@@ -24,6 +26,7 @@ int sdv_fuzz_btree(const uint8_t* data, size_t size) {
     if (converted && !diags.has_errors()) {
         const std::string display = path + ".sdv";
         (void)compiler::compile_source(display, converted->text, sm, diags);
+        fuzz::require_converted_text_compiles("btree", display, sm, diags);
         (void)compiler::syntax::format(sm.add_file(display, converted->text), sm, diags);
     }
     const auto all = diags.sorted();

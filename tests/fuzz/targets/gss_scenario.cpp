@@ -9,7 +9,10 @@
 // unescaped could): the compiled scenario has one agent per GeoScenario vehicle, pedestrian and object,
 // one light per traffic light, and the expectations of the reference's success criterion
 // (no collision when `collision` is on, each goal-ending SDV, else every SDV, reaches its goal,
-// and no time-out when some goal ends the run), as convert_geoscenario writes them.
+// and no time-out when some goal ends the run), as convert_geoscenario writes them. And a
+// scenario the converter accepts compiles: every value it writes is one the .sdv checker
+// accepts, so no error is located in the converted text, a file the user does not have (the
+// converter reports it at the GeoScenario tag instead).
 #include <pugixml.hpp>
 
 #include <filesystem>
@@ -111,6 +114,7 @@ int sdv_fuzz_gss_scenario(const uint8_t* data, size_t size) {
         // sdv lint and sdv run compile the converted text; sdv convert writes it formatted.
         const std::string display = path + ".sdv";
         auto result = compiler::compile_source(display, converted->text, sm, diags);
+        fuzz::require_converted_text_compiles(kTarget, display, sm, diags);
         if (result.program && !diags.has_errors()) check_no_injection(path, text, *result.program);
         (void)compiler::syntax::format(sm.add_file(display, converted->text), sm, diags);
     }

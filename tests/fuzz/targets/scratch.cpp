@@ -102,4 +102,13 @@ void fail(const char* target, const std::string& what) {
     std::abort();
 }
 
+void require_converted_text_compiles(const char* target, const std::string& display, const diag::SourceManager& sm,
+                                     const diag::DiagnosticEngine& diags) {
+    for (const auto& d : diags.sorted()) {
+        if (d.severity != diag::Severity::error || d.range.begin.file == 0 || sm.path(d.range.begin.file) != display) continue;
+        fail(target, "the converter accepted the input, but its .sdv text does not compile: " + d.code + " " + d.message + ": " +
+                         std::string(sm.line_text(d.range.begin.file, sm.line_col(d.range.begin).line)));
+    }
+}
+
 }  // namespace sdv::fuzz

@@ -6,6 +6,8 @@
 #include <string_view>
 #include <vector>
 
+#include "compiler/diag/diagnostic_engine.h"
+
 namespace sdv::fuzz {
 
 // An empty directory of this process for one target's files: <scratch>/<name>, emptied on
@@ -24,5 +26,11 @@ const std::vector<std::string>& btree_library();
 // A broken property of `target`: prints what and aborts, which libFuzzer reports as a crash
 // (and the replay test as a failure).
 [[noreturn]] void fail(const char* target, const std::string& what);
+
+// The GeoScenario front ends' property: a file the converter accepts compiles, so `diags` has no
+// error located in the converted text (`display`, the file name it was compiled under), which
+// the user does not have: the converter reports a value the checker refuses at its tag.
+void require_converted_text_compiles(const char* target, const std::string& display, const diag::SourceManager& sm,
+                                     const diag::DiagnosticEngine& diags);
 
 }  // namespace sdv::fuzz
