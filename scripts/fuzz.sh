@@ -22,8 +22,8 @@
 # --resume makes a count-bounded run a campaign in parts (10 million executions take hours, more
 # than one sitting): the first part copies the executable and keeps it, with its corpus and the
 # executions so far, in build/<preset>/campaigns/TARGET; stop a part at any time (SIGTERM to the
-# fuzzer) and run the same command again to go on with the same executable from that corpus,
-# until N executions in all. The row is recorded when the campaign ends, its executions summed
+# fuzzer's main process, pkill -o) and run the same command again to go on with the same
+# executable from that corpus, until N executions in all. The row is recorded when the campaign ends, its executions summed
 # over the parts, the commit its executable was built from in its bound.
 # Exit status: 0 no finding, 1 a finding, 2 usage or build errors.
 set -euo pipefail
