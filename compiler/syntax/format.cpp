@@ -149,13 +149,21 @@ std::optional<std::string> format(diag::FileId file, const diag::SourceManager& 
     // One parse of the whole token stream, comments included, after the checks that bound the
     // parser's stack: SLL prediction, then full LL, each stopping at the first syntax error
     // (ANTLR's two stages). A file that does not parse goes through parse() for its diagnostics.
-    if (!precheck(file, sm, diags)) return std::nullopt;  // reports why
+    // The file is lexed once, for the checks and the parse.
+    if (!check_encoding(file, sm, diags)) return std::nullopt;  // reports why
     const std::string_view text = sm.contents(file);
     antlr4::ANTLRInputStream input(text.data(), text.size());
     SdvLexer lexer(&input);
     lexer.removeErrorListeners();
     antlr4::CommonTokenStream stream(&lexer);
-    stream.fill();
+    try {
+        stream.fill();
+    } catch (const std::exception& e) {
+        diags.error("E0003", {{file, 0}, {file, 0}},
+                    std::string("the parser failed on this file: ") + e.what());
+        return std::nullopt;
+    }
+    if (!precheck(file, sm, stream.getTokens(), diags)) return std::nullopt;  // reports why
     SdvParser parser(&stream);
     parser.removeErrorListeners();
     parser.setErrorHandler(std::make_shared<antlr4::BailErrorStrategy>());

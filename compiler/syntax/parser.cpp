@@ -1135,22 +1135,24 @@ bool prepare(diag::FileId file, std::string_view text, const CodePoints& offs, s
 
 }  // namespace
 
-bool precheck(diag::FileId file, const diag::SourceManager& sm, diag::DiagnosticEngine& diags) {
+bool check_encoding(diag::FileId file, const diag::SourceManager& sm, diag::DiagnosticEngine& diags) {
+    return check_utf8(file, sm.contents(file), diags);
+}
+
+bool precheck(diag::FileId file, const diag::SourceManager& sm, const std::vector<Token*>& tokens,
+              diag::DiagnosticEngine& diags) {
     const std::string_view text = sm.contents(file);
-    if (!check_utf8(file, text, diags)) return false;
-    try {
-        const CodePoints offs(text);
-        Utf8Stream input(text, offs);
-        LexemeLexer lexer(&input);
-        lexer.removeErrorListeners();
-        lexer.lex_all();
-        Prepared prepared;
-        return prepare(file, text, offs, std::move(lexer.lexemes), prepared, diags);
-    } catch (const std::exception& e) {
-        diags.error("E0003", {{file, 0}, {file, 0}},
-                    std::string("the parser failed on this file: ") + e.what());
-        return false;
+    const CodePoints offs(text);
+    std::vector<Lexeme> lexemes;
+    lexemes.reserve(tokens.size());
+    for (const Token* t : tokens) {
+        if (t->getChannel() != Token::DEFAULT_CHANNEL || t->getType() == Token::EOF) continue;
+        lexemes.push_back({static_cast<uint32_t>(t->getType()),
+                           static_cast<uint32_t>(t->getStartIndex()),
+                           static_cast<uint32_t>(t->getStopIndex())});
     }
+    Prepared prepared;
+    return prepare(file, text, offs, std::move(lexemes), prepared, diags);
 }
 
 std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& sm,

@@ -4,10 +4,15 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "compiler/ast/ast.h"
 #include "compiler/diag/diagnostic_engine.h"
 #include "compiler/diag/source_manager.h"
+
+namespace antlr4 {
+class Token;
+}
 
 namespace sdv::compiler::syntax {
 
@@ -24,11 +29,17 @@ inline constexpr int kMaxSyntaxErrors = 20;
 std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& sm,
                                  diag::DiagnosticEngine& diags);
 
-// The checks parse() makes before it parses (encoding, stray characters, unterminated strings,
-// nesting depth, expression length, a file declaring nothing), reported as parse() reports
-// them; false when one fails. A file that passes them cannot exhaust a parser's stack: for the
-// formatter, which parses the whole token stream itself.
-bool precheck(diag::FileId file, const diag::SourceManager& sm, diag::DiagnosticEngine& diags);
+// The encoding check parse() makes first: E0001 at the first byte that is not UTF-8. True when
+// the text is valid UTF-8, which the lexer needs.
+bool check_encoding(diag::FileId file, const diag::SourceManager& sm, diag::DiagnosticEngine& diags);
+
+// The checks parse() makes after lexing and before it parses (stray characters, unterminated
+// strings, nesting depth, expression length, a file declaring nothing), reported as parse()
+// reports them; false when one fails. `tokens` are the file's tokens on every channel, as a
+// CommonTokenStream over its text (valid UTF-8) holds them. A file that passes them cannot
+// exhaust a parser's stack: for the formatter, which lexes and parses the whole stream itself.
+bool precheck(diag::FileId file, const diag::SourceManager& sm,
+              const std::vector<antlr4::Token*>& tokens, diag::DiagnosticEngine& diags);
 
 // One line per token, `line:col KIND 'text'`, for `sdv compile --emit tokens`.
 std::string dump_tokens(diag::FileId file, const diag::SourceManager& sm);

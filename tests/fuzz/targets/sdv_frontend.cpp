@@ -56,6 +56,7 @@ void format(const std::string& text) {
     auto formatted = compiler::syntax::format(id, sm, diags);
     render(diags, sm);
     if (!formatted) return;
+    if (*formatted == text) return;  // formatting it again would repeat this very call
     diag::SourceManager sm2;
     diag::DiagnosticEngine diags2(sm2);
     auto again = compiler::syntax::format(sm2.add_file(kPath, *formatted), sm2, diags2);

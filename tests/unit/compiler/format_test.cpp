@@ -1,8 +1,8 @@
-// `sdv fmt` (compiler::syntax::format) parses a file itself, once, after the checks parse() makes
-// before parsing (syntax::precheck). Pinned on mutants of every example and std/ tree file:
-// format gives a text exactly when parse() gives an AST; when it does not, it reports what
-// parse() reports, diagnostic for diagnostic; and the text it gives is a fixed point that
-// parses.
+// `sdv fmt` (compiler::syntax::format) lexes and parses a file itself, once, after the checks
+// parse() makes before parsing (syntax::check_encoding, then syntax::precheck on the tokens it
+// lexed). Pinned on mutants of every example and std/ tree file: format gives a text exactly
+// when parse() gives an AST; when it does not, it reports what parse() reports, diagnostic for
+// diagnostic; and the text it gives is a fixed point that parses.
 #include <doctest/doctest.h>
 
 #include <filesystem>
