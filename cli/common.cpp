@@ -14,7 +14,7 @@ namespace sdv::cli {
 
 const std::vector<std::string> kWarningNames = {"unused-tree", "unused-parameter", "unused-import",
                                                 "no-expectations", "gss-ignored-parameter", "gss-extra-tree", "gss-unknown-type",
-                                                "gss-ignored-element"};
+                                                "gss-ignored-element", "gss-reconfigured-twice", "gss-unreachable"};
 
 WarningFlags extract_warning_flags(std::vector<std::string>& args) {
     WarningFlags f;

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <set>
 #include <sstream>
 
 namespace sdv::compiler::gss {
@@ -226,11 +227,15 @@ public:
         return std::nullopt;
     }
 
-    // A vehicle id → the name the scenario converter gives it.
+    // A vehicle id → the name the scenario converter gives it (`v<vid>`): a whole number from 0
+    // to 1,000,000, as the scenario reader takes a vehicle's `vid`.
     std::optional<std::string> vehicle_id(const BtItem& it) {
-        auto n = number(it);
-        if (!n) return std::nullopt;
-        return "v" + num_text(std::round(*n));
+        const BtValue& v = it.value;
+        if (v.kind != BtValue::Kind::number || v.number != std::floor(v.number) || v.number < 0 || v.number > 1e6) {
+            bad(it, "a vehicle id (a whole number from 0 to 1000000)");
+            return std::nullopt;
+        }
+        return "v" + std::to_string(static_cast<int>(v.number));
     }
 
     // An occupancy zone → the catalog's zone word.
@@ -614,6 +619,44 @@ const catalog::ParamDef* cond_param(const char* cond, const char* arg) {
     return c != nullptr ? c->find_param(arg) : nullptr;
 }
 
+// What keeps a lowered condition from compiling as sdv's condition `o.name` (a parameter it
+// requires, one of a group it needs, two that exclude each other, one given twice), in words;
+// empty when nothing does. The reference's arguments may leave out what sdv's condition needs
+// (traffic_light_state without a colour): the converter says so (E0913) instead of writing text
+// that does not compile.
+std::string unmet_needs(const CondOut& o) {
+    const catalog::ConditionDef* c = catalog::find_condition(o.name);
+    if (c == nullptr) return "";  // a lowering's bug: the compilation of the converted text reports it
+    std::set<std::string> given;
+    for (const Arg& a : o.args) {
+        if (!given.insert(a.name).second) return "sdv's condition '" + o.name + "' would get '" + a.name + "' twice";
+    }
+    for (const auto& p : c->params) {
+        if (p.required() && !given.count(p.name)) {
+            return "sdv's condition '" + o.name + "' needs its '" + p.name + "', which none of the arguments given sets";
+        }
+    }
+    if (!c->at_least_one_of.empty() &&
+        std::none_of(c->at_least_one_of.begin(), c->at_least_one_of.end(), [&](const auto& g) { return given.count(g) > 0; })) {
+        std::string list;
+        for (const auto& g : c->at_least_one_of) list += (list.empty() ? "" : ", ") + g;
+        return "sdv's condition '" + o.name + "' needs one of " + list + ", which none of the arguments given sets";
+    }
+    if (std::count_if(c->exclusive.begin(), c->exclusive.end(), [&](const auto& g) { return given.count(g) > 0; }) > 1) {
+        return "the arguments given set parameters of sdv's condition '" + o.name + "' that exclude each other";
+    }
+    return "";
+}
+
+// Whether a leaf written as .sdv text ("maneuver stop()", "condition ...") never fails.
+bool leaf_never_fails(std::string_view leaf) {
+    constexpr std::string_view kManeuver = "maneuver ";
+    if (leaf.substr(0, kManeuver.size()) != kManeuver) return false;
+    leaf.remove_prefix(kManeuver.size());
+    const catalog::ManeuverDef* m = catalog::find_maneuver(leaf.substr(0, leaf.find('(')));
+    return m != nullptr && m->never_fails();
+}
+
 void opt(std::vector<Arg>& out, const char* name, const std::optional<std::string>& text) {
     if (text) out.push_back({name, *text});
 }
@@ -647,13 +690,18 @@ const std::vector<CondMap>& condition_map() {
              if (const auto* t = a.take({"t"})) {
                  // An exact time, accepted up to one planning cycle late (the reference's 5 Hz, at
                  // which converted scenarios run).
-                 if (auto n = v.number(*t)) {
-                     o.args.push_back({"after", with_unit(*n, "s")});
-                     o.args.push_back({"before", with_unit(*n + 0.2, "s")});
+                 const catalog::ParamDef* before = cond_param("sim_time", "before");
+                 if (auto after = v.quantity(*t, "s", cond_param("sim_time", "after"))) {
+                     o.args.push_back({"after", *after});
+                     const double late = *v.number(*t) + 0.2;
+                     o.args.push_back({"before", with_unit(before != nullptr ? std::min(late, before->max) : late, "s")});
                  }
+                 // The reference's sim_time looks at 't' alone when it is given.
+                 a.ignore({"tmin", "tmax"}, "the reference compares the time with 't' when it is given");
+             } else {
+                 if (const auto* lo = a.take({"tmin"})) opt(o.args, "after", v.quantity(*lo, "s", cond_param("sim_time", "after")));
+                 if (const auto* hi = a.take({"tmax"})) opt(o.args, "before", v.quantity(*hi, "s", cond_param("sim_time", "before")));
              }
-             if (const auto* t = a.take({"tmin"})) opt(o.args, "after", v.quantity(*t, "s", cond_param("sim_time", "after")));
-             if (const auto* t = a.take({"tmax"})) opt(o.args, "before", v.quantity(*t, "s", cond_param("sim_time", "before")));
              if (o.args.empty()) o.args.push_back({"after", "0 s"});
              o.once = repeat_false(a, v);
          }},
@@ -976,6 +1024,12 @@ std::string BtreeLibrary::tree_name(const std::string& stem) {
     return s;
 }
 
+std::vector<ReferenceCondition> reference_conditions(BtAgent agent) {
+    std::vector<ReferenceCondition> out;
+    for (const std::string& name : condition_names(agent)) out.push_back({name, find_condition(name, agent)->reads});
+    return out;
+}
+
 BtAgent BtreeLibrary::agent(const std::string& name) const {
     for (const auto& [path, l] : done_) {
         if (l.name == name) return l.agent;
@@ -1171,7 +1225,9 @@ const BtreeLibrary::Lowered* BtreeLibrary::lower_file(const std::string& path, d
     const BtAgent own = agent_of(tree.root);
     t.lowered.agent = own != BtAgent::unknown ? own : agent != BtAgent::unknown ? agent : BtAgent::vehicle;
     const size_t before = diags_.error_count();
-    const std::string body = lower_node(tree.root, 1, t);
+    const NodeText root = lower_node(tree.root, 1, t);
+    const std::string& body = root.text;
+    t.lowered.never_fails = root.never_fails;
     in_progress_.erase(key);
     if (diags_.error_count() > before) return nullptr;
     if (!t.lowered.selects) {
@@ -1185,22 +1241,59 @@ const BtreeLibrary::Lowered* BtreeLibrary::lower_file(const std::string& path, d
     return &(done_[key] = std::move(t.lowered));
 }
 
-std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
+BtreeLibrary::NodeText BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
     const std::string ind(static_cast<size_t>(depth) * 4, ' ');
-    switch (n.kind) {
-        case BtNode::Kind::fallback:
-        case BtNode::Kind::sequence:
-        case BtNode::Kind::parallel: {
-            std::string s = ind + (n.kind == BtNode::Kind::fallback ? "fallback"
-                                   : n.kind == BtNode::Kind::sequence ? "sequence"
-                                                                      : "parallel(policy = all)") + " {\n";
-            for (const BtNode& c : n.children) s += lower_node(c, depth + 1, t);
-            return s + ind + "}\n";
-        }
-        case BtNode::Kind::subtree: return ind + lower_subtree(n, t.lowered.agent, &t, false);
-        case BtNode::Kind::condition:
-        case BtNode::Kind::maneuver: break;
+    NodeText out;
+    if (n.kind == BtNode::Kind::subtree) {
+        out.text = lower_subtree(n, t.lowered.agent, &t, false, &out.never_fails);
+        if (!out.text.empty()) out.text = ind + out.text;
+        out.nodes = out.text.empty() ? 0 : 1;
+        return out;
     }
+    if (n.kind == BtNode::Kind::condition || n.kind == BtNode::Kind::maneuver) {
+        out.text = lower_leaf(n, ind, t, out.never_fails);
+        // Its comment lines aside, a leaf is one .sdv node (a sequence or fallback of a few).
+        std::istringstream lines(out.text);
+        for (std::string line; std::getline(lines, line);) {
+            if (line.find_first_not_of(' ') != std::string::npos && line[line.find_first_not_of(' ')] != '#') out.nodes = 1;
+        }
+        return out;
+    }
+    const bool fallback = n.kind == BtNode::Kind::fallback;
+    out.text = ind + (fallback ? "fallback" : n.kind == BtNode::Kind::sequence ? "sequence" : "parallel(policy = all)") + " {\n";
+    out.nodes = 1;
+    int children = 0;
+    bool all_never_fail = true;
+    for (size_t i = 0; i < n.children.size(); ++i) {
+        const NodeText c = lower_node(n.children[i], depth + 1, t);
+        out.text += c.text;
+        if (c.nodes == 0) continue;
+        ++children;
+        all_never_fail = all_never_fail && c.never_fails;
+        if (fallback && c.never_fails) {
+            out.never_fails = true;
+            // The reference's fallback never ticks what follows either: dead, left out (the
+            // checker refuses unreachable children, E0403).
+            if (i + 1 < n.children.size()) {
+                auto& d = diags_.warning("W0906", "gss-unreachable", n.children[i + 1].range,
+                                         "the fallback never gets past the child before this one: it is left out");
+                d.notes.push_back({n.children[i].range, "this child never fails"});
+                d.notes.push_back({{}, "a keep-velocity, stop or reverse maneuver never fails (it runs, then succeeds), in the "
+                                       "reference too, which never ticks the children after it"});
+            }
+            break;
+        }
+    }
+    if (children == 0) {
+        // Only conditions that the maneuver after them implies, which always hold: so does this.
+        out.text += ind + "    condition sim_time(after = 0 s)  # always holds, as its conditions did\n";
+    }
+    if (n.kind == BtNode::Kind::sequence) out.never_fails = children > 0 && all_never_fail;
+    out.text += ind + "}\n";
+    return out;
+}
+
+std::string BtreeLibrary::lower_leaf(const BtNode& n, const std::string& ind, TreeState& t, bool& never_fails) {
     // A unique label per tree; repeated names get a suffix (an override reaches the first, as
     // the reference's reconfigure_nodes does).
     std::string label = tree_name(n.label);
@@ -1240,6 +1333,8 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
         t.lowered.selects = true;
         s += ")\n";
         if (cm->then != nullptr) s += inner + cm->then + "\n" + ind + "}\n";
+        never_fails = leaf_never_fails(std::string("maneuver ") + cm->maneuver + "()") &&
+                      (cm->then == nullptr || leaf_never_fails(cm->then));
         return s;
     }
     const CondMap* cmap = find_condition(call.text, agent);
@@ -1256,8 +1351,17 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
     Args args(call, diags_, "condition " + call.text);
     Values val(diags_);
     CondOut out;
+    const size_t errors = diags_.error_count();
     cmap->lower(args, val, out);
     args.finish(false, cmap->reads);
+    // A value refused above (E0906) leaves its parameter out: that error says enough.
+    if (out.unsupported.empty() && out.any_of.empty() && !out.drop && diags_.error_count() == errors) {
+        if (std::string unmet = unmet_needs(out); !unmet.empty()) {
+            diags_.error("E0913", call.name_range, "condition '" + call.text + "' with these arguments is not supported by sdv")
+                .notes.push_back({{}, unmet});
+            return "";
+        }
+    }
     if (!out.unsupported.empty()) {
         diags_.error("E0913", call.name_range, "condition '" + call.text + "' is not supported by sdv")
             .notes.push_back({{}, out.unsupported});
@@ -1275,6 +1379,7 @@ std::string BtreeLibrary::lower_node(const BtNode& n, int depth, TreeState& t) {
         for (const auto& alt : out.any_of) {
             s += ind + "    " + alt + "\n";
             if (alt.rfind("maneuver ", 0) == 0) t.lowered.selects = true;
+            never_fails = never_fails || leaf_never_fails(alt);
         }
         return s + ind + "}\n";
     }
@@ -1314,7 +1419,7 @@ void BtreeLibrary::node_names(const Lowered& l, bool deep, std::vector<std::stri
     }
 }
 
-std::string BtreeLibrary::lower_subtree(const BtNode& n, BtAgent agent, TreeState* t, bool deep) {
+std::string BtreeLibrary::lower_subtree(const BtNode& n, BtAgent agent, TreeState* t, bool deep, bool* never_fails) {
     const Lowered* sub = nullptr;
     if (auto path = find(n.label)) {
         sub = lower_file(*path, n.label_range, agent);
@@ -1323,6 +1428,7 @@ std::string BtreeLibrary::lower_subtree(const BtNode& n, BtAgent agent, TreeStat
     }
     if (sub == nullptr) return "";
     if (t != nullptr && sub->selects) t->lowered.selects = true;
+    if (never_fails != nullptr) *never_fails = sub->never_fails;
     // Overrides: NODE=MConfigClass(...) replaces the configuration of the first node of that
     // name (BTreeInterpreter.reconfigure_nodes): fields the trees set and the override leaves
     // out fall back to the catalog defaults. A subtree reference in a .btree reaches the

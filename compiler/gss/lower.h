@@ -32,6 +32,15 @@ namespace sdv::compiler::gss {
 // Whose tree a .btree file is: unknown lets its leaves decide (a vehicle's when they do not).
 enum class BtAgent { unknown, vehicle, pedestrian };
 
+// A condition of the reference's trees that the converter maps (docs/geoscenario.md), with the
+// parameters of it sdv reads.
+struct ReferenceCondition {
+    std::string name;
+    std::vector<std::string> reads;
+};
+// Those a tree of `agent` (vehicle or pedestrian) may use, in the order of the mapping.
+std::vector<ReferenceCondition> reference_conditions(BtAgent agent);
+
 class BtreeLibrary {
 public:
     // `search_path`: directories searched, in order, for NAME.btree.
@@ -88,6 +97,16 @@ private:
         std::map<std::string, std::vector<NodeInfo>> nodes;
         std::vector<Item> order;
         bool selects = false;  // some leaf of it, or of a tree it uses, is a .sdv maneuver
+        bool never_fails = false;  // its root never fails (NodeText)
+    };
+    // A lowered node: its .sdv text; how many .sdv nodes it is (0: a condition the maneuver that
+    // follows implies, which is left out); whether it never fails as the checker sees the text
+    // (a maneuver that never fails, a sequence of such nodes, a fallback with one): a fallback
+    // never gets past it, in the reference either, and the checker refuses what follows (E0403).
+    struct NodeText {
+        std::string text;
+        int nodes = 0;
+        bool never_fails = false;
     };
     struct TreeState;
     // A node found by its .btree name: its .sdv override path (`sub.label.`) and the fields
@@ -100,10 +119,12 @@ private:
 
     std::optional<std::string> find(const std::string& name) const;
     const Lowered* lower_file(const std::string& path, diag::SourceRange where, BtAgent agent);
-    std::string lower_node(const BtNode& n, int depth, TreeState& t);
+    NodeText lower_node(const BtNode& n, int depth, TreeState& t);
+    std::string lower_leaf(const BtNode& n, const std::string& ind, TreeState& t, bool& never_fails);
     // A subtree reference: `subtree NAME(overrides)`, labelled when it is a node of `t`.
     // `deep`: overrides reach the nodes of the tree's own subtrees too (a vehicle's btconfig).
-    std::string lower_subtree(const BtNode& n, BtAgent agent, TreeState* t, bool deep);
+    // `never_fails`, when given: whether the tree's root never fails (NodeText).
+    std::string lower_subtree(const BtNode& n, BtAgent agent, TreeState* t, bool deep, bool* never_fails = nullptr);
     // A btconfig's `ID=condition,args=(k=v,...)`: overrides of that condition node's arguments.
     void condition_overrides(const BtNode& leaf, const Lowered& root, std::vector<std::string>& out);
     static std::optional<Found> find_node(const Lowered& l, const std::string& name, bool deep);

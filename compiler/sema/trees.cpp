@@ -113,9 +113,7 @@ bool Checker::always_succeeds(const ast::Node& n, int depth) {
     switch (n.kind) {
         case ast::NodeKind::maneuver: {
             const auto* m = catalog::find_maneuver(n.callee.str());
-            return m != nullptr && (m->kind == catalog::ManeuverKind::keep_velocity ||
-                                    m->kind == catalog::ManeuverKind::stop ||
-                                    m->kind == catalog::ManeuverKind::reverse);
+            return m != nullptr && m->never_fails();
         }
         case ast::NodeKind::sequence:
         case ast::NodeKind::reactive_sequence:

@@ -659,6 +659,10 @@ std::span<const ExpectDef> expectations() {
 }
 
 const ManeuverDef* find_maneuver(std::string_view name) { return find_by_name(maneuvers(), name); }
+
+bool ManeuverDef::never_fails() const {
+    return kind == ManeuverKind::keep_velocity || kind == ManeuverKind::stop || kind == ManeuverKind::reverse;
+}
 const ConditionDef* find_condition(std::string_view name) {
     return find_by_name(conditions(), name);
 }

@@ -121,6 +121,10 @@ struct ManeuverDef {
     Agent agent = Agent::vehicle;  // vehicle or pedestrian
 
     const ParamDef* find_param(std::string_view name) const;
+    // Whether the leaf never returns FAILURE (keep_velocity, stop, reverse: RUNNING, then
+    // SUCCESS): a fallback never gets past it (the checker's E0403; the GeoScenario converter
+    // leaves out what follows it).
+    bool never_fails() const;
 };
 
 enum class ConditionKind {
