@@ -281,16 +281,12 @@ public:
         for (const double x : {v, lo, v + delta}) {
             if (p->accepts(x)) continue;
             const std::string u = unit.empty() ? "" : " " + unit;
-            std::string allowed = (p->min_exclusive ? "more than " : "") + catalog::format_number(p->min) + u + " to " +
-                                  catalog::format_number(p->max) + u;
-            if (std::isinf(p->min)) allowed = "at most " + catalog::format_number(p->max) + u;
-            if (std::isinf(p->max)) allowed = (p->min_exclusive ? "more than " : "at least ") + catalog::format_number(p->min) + u;
             const std::string what = x == v ? "value " + catalog::format_number(x) + u + " is"
                                             : "value " + catalog::format_number(v) + u + " ±" + catalog::format_number(written(pct)) +
                                                   "% reaches " + catalog::format_number(x) + u + ", which is";
             diags_.error("E0906", it.value.range, what + " out of range" + (it.key ? " for '" + *it.key + "'" : std::string()) +
                                                       " (sdv's " + p->name + ")")
-                .notes.push_back({{}, "allowed: " + allowed});
+                .notes.push_back({{}, "allowed: " + p->allowed([&](double b) { return catalog::format_number(b) + u; })});
             return false;
         }
         return true;

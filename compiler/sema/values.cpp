@@ -386,17 +386,9 @@ bool Checker::check_range(const Eval& e, const ParamDef& def, const std::string&
     if (def.min >= 0 && s.lo < 0 && s.value >= 0) s.lo = 0;
     for (double x : {s.value, s.lo, s.hi}) {
         if (!def.accepts(x)) {
-            std::string allowed = (def.min_exclusive ? "more than " : "") +
-                                  with_unit(def.min, def.dim) + " to " +
-                                  with_unit(def.max, def.dim);
-            if (std::isinf(def.min)) allowed = "at most " + with_unit(def.max, def.dim);
-            if (std::isinf(def.max)) {
-                allowed = (def.min_exclusive ? "more than " : "at least ") +
-                          with_unit(def.min, def.dim);
-            }
             auto* d = error("E0301", e.range,
                             "value " + with_unit(x, def.dim) + " is out of range for " + what);
-            d->notes.push_back({{}, "allowed: " + allowed});
+            d->notes.push_back({{}, "allowed: " + def.allowed([&](double v) { return with_unit(v, def.dim); })});
             return false;
         }
     }

@@ -6,14 +6,14 @@
 #include <string_view>
 #include <vector>
 
+#include "runtime/ir/utf8.h"
+
 namespace sdv::compiler::syntax {
 
-// The length in bytes of the UTF-8 sequence at byte `i` of `s` (i < s.size()), 1 to 4; 0 when it
-// is not valid UTF-8 (a stray or truncated byte, an overlong form, a surrogate, beyond U+10FFFF).
-size_t utf8_sequence_length(std::string_view s, size_t i);
-
-// Returns the byte offset of the first invalid UTF-8 sequence, or npos.
-size_t find_invalid_utf8(std::string_view s);
+// The validity check itself is the runtime's (runtime/ir/utf8.h), shared with the co-simulation
+// protocol.
+using sdv::ir::find_invalid_utf8;
+using sdv::ir::utf8_sequence_length;
 
 // Byte offset of every code point, plus one entry for the end of the text.
 std::vector<uint32_t> code_point_offsets(std::string_view s);

@@ -611,6 +611,12 @@ const T* find_by_name(std::span<const T> items, std::string_view name) {
 
 }  // namespace
 
+std::string ParamDef::allowed(const std::function<std::string(double)>& write) const {
+    if (std::isinf(min)) return std::isinf(max) ? "any finite number" : "at most " + write(max);
+    const std::string from = (min_exclusive ? "more than " : std::isinf(max) ? "at least " : "") + write(min);
+    return std::isinf(max) ? from : from + " to " + write(max);
+}
+
 std::string format_number(double v) {
     if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
     char buf[32];

@@ -7,6 +7,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <span>
@@ -96,6 +97,11 @@ struct ParamDef {
 
     // Whether the SI value `x` is in the allowed range (finite, above min, at most max).
     bool accepts(double x) const { return std::isfinite(x) && (min_exclusive ? x > min : x >= min) && x <= max; }
+
+    // The allowed range in words, for the note under an out-of-range error: "0 m to 100 m",
+    // "more than 0 s to 60 s", "at least 0 m/s", "at most 5"; `write` writes a bound (an SI value)
+    // with its unit as the reader of the message wrote it.
+    std::string allowed(const std::function<std::string(double)>& write) const;
 };
 
 // Who a leaf is for: a vehicle's tree (SDV), a pedestrian's tree (SDP), or either.

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "runtime/ir/utf8.h"
+
 namespace sdv::cosim {
 namespace {
 
@@ -112,27 +114,7 @@ std::string printable(std::string_view text, size_t max_bytes) {
     size_t i = 0;
     while (i < text.size() && out.size() < max_bytes) {
         const auto c = static_cast<unsigned char>(text[i]);
-        // The length of a well-formed UTF-8 sequence starting here (RFC 3629), or 0.
-        size_t n = c < 0x80                       ? 1
-                   : (c >> 5) == 0x6 && c >= 0xc2 ? 2
-                   : (c >> 4) == 0xe              ? 3
-                   : c >= 0xf0 && c <= 0xf4       ? 4
-                                                  : 0;
-        if (n > 1) {
-            if (i + n > text.size()) n = 0;
-            for (size_t k = 1; k < n; ++k) {
-                if ((static_cast<unsigned char>(text[i + k]) & 0xc0) != 0x80) n = 0;
-            }
-            if (n == 3) {
-                const auto c1 = static_cast<unsigned char>(text[i + 1]);
-                if ((c == 0xe0 && c1 < 0xa0) || (c == 0xed && c1 >= 0xa0))
-                    n = 0;  // overlong, surrogate
-            } else if (n == 4) {
-                const auto c1 = static_cast<unsigned char>(text[i + 1]);
-                if ((c == 0xf0 && c1 < 0x90) || (c == 0xf4 && c1 >= 0x90))
-                    n = 0;  // overlong, > U+10FFFF
-            }
-        }
+        const size_t n = ir::utf8_sequence_length(text, i);
         if (n == 0) {
             static constexpr char kHex[] = "0123456789abcdef";
             out += "\\x";

@@ -86,3 +86,39 @@ TEST_CASE("every maneuver and condition sits at the index of its kind (the IR st
         CHECK(static_cast<size_t>(conditions()[i].kind) == i);
     }
 }
+
+TEST_CASE("a parameter's allowed range in words says what accepts() takes") {
+    const auto write = [](double v) { return format_number(v) + " u"; };
+    ParamDef p;
+    CHECK(p.allowed(write) == "any finite number");
+    p.min = 0;
+    CHECK(p.allowed(write) == "at least 0 u");
+    p.min_exclusive = true;
+    CHECK(p.allowed(write) == "more than 0 u");
+    p.max = 40;
+    CHECK(p.allowed(write) == "more than 0 u to 40 u");
+    p.min_exclusive = false;
+    CHECK(p.allowed(write) == "0 u to 40 u");
+    p.min = -kInf;
+    CHECK(p.allowed(write) == "at most 40 u");
+    // Every range of the catalog: the words name each finite bound, "more than" exactly when the
+    // lower bound itself is refused.
+    const auto check = [&](const ParamDef& q) {
+        INFO(q.name);
+        const std::string words = q.allowed(write);
+        if (std::isfinite(q.min)) {
+            CHECK(words.find(write(q.min)) != std::string::npos);
+            CHECK((words.rfind("more than ", 0) == 0) == !q.accepts(q.min));
+        }
+        if (std::isfinite(q.max)) {
+            CHECK(words.find(write(q.max)) != std::string::npos);
+            CHECK(q.accepts(q.max));
+        }
+    };
+    for (const auto& m : maneuvers()) {
+        for (const auto& q : m.params) check(q);
+    }
+    for (const auto& c : conditions()) {
+        for (const auto& q : c.params) check(q);
+    }
+}
