@@ -265,7 +265,8 @@ if [ "$record" = 1 ]; then
     build_kind=$([ "$preset" = fuzz ] && echo "ASan+UBSan" || echo "no sanitizers")
     bound_text=${runs:+"$runs runs"}
     bound_text=${bound_text:-"$minutes min"}
-    [ "$resume" = 0 ] || bound_text="$bound_text in $c_parts parts (one executable, built from $c_commit)"
+    parts_text=$([ "$c_parts" = 1 ] && echo "one part" || echo "$c_parts parts")
+    [ "$resume" = 0 ] || bound_text="$bound_text in $parts_text (one executable, built from $c_commit)"
     [ "$keep_going" = 0 ] || bound_text="$bound_text, fork mode"
     [ "$per_input" = 1 ] || bound_text="$bound_text, ${per_input} s per input"
     [ "$stopped" = 0 ] || [ "$resume" = 1 ] || bound_text="$bound_text, stopped by a signal"

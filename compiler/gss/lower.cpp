@@ -372,7 +372,10 @@ const std::vector<ClassMap>& classes() {
           {"max_diff", "max_speed_change", Conv::quantity}, {"time_lowvel", "", Conv::ignore},
           {"vel_threshold", "", Conv::ignore}}},
         {"MFollowConfig", "follow",
-         {{"target_vid", "leader", Conv::vehicle}, {"time", "duration", Conv::sampled},
+         {{"target_vid", "", Conv::ignore,
+           "the reference follows the vehicle ahead in the lane whatever target_vid says (its follow maneuver "
+           "sets target_vid to that vehicle on every tick, and fails without one), as sdv's follow without a leader does"},
+          {"time", "duration", Conv::sampled},
           {"time_gap", "time_gap", Conv::quantity}, {"stop_distance", "stop_distance", Conv::quantity},
           {"decel", "", Conv::ignore}}},
         {"MLaneSwerveConfig", "lane_change", {{"target_lid", "lane", Conv::side}, {"time", "duration", Conv::sampled}}},
