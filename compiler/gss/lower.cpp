@@ -286,7 +286,8 @@ public:
                                                   "% reaches " + catalog::format_number(x) + u + ", which is";
             diags_.error("E0906", it.value.range, what + " out of range" + (it.key ? " for '" + *it.key + "'" : std::string()) +
                                                       " (sdv's " + p->name + ")")
-                .notes.push_back({{}, "allowed: " + p->allowed([&](double b) { return catalog::format_number(b) + u; })});
+                .notes.push_back(
+                    {{}, "allowed: " + p->allowed([&](double b) { return catalog::format_number(b) + u; })});
             return false;
         }
         return true;
@@ -373,8 +374,9 @@ const std::vector<ClassMap>& classes() {
           {"vel_threshold", "", Conv::ignore}}},
         {"MFollowConfig", "follow",
          {{"target_vid", "", Conv::ignore,
-           "the reference follows the vehicle ahead in the lane whatever target_vid says (its follow maneuver "
-           "sets target_vid to that vehicle on every tick, and fails without one), as sdv's follow without a leader does"},
+           "the reference follows the vehicle ahead in the lane whatever target_vid says (its follow "
+           "maneuver sets target_vid to that vehicle on every tick, and fails without one), as sdv's "
+           "follow without a leader does"},
           {"time", "duration", Conv::sampled},
           {"time_gap", "time_gap", Conv::quantity}, {"stop_distance", "stop_distance", Conv::quantity},
           {"decel", "", Conv::ignore}}},

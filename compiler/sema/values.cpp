@@ -388,7 +388,8 @@ bool Checker::check_range(const Eval& e, const ParamDef& def, const std::string&
         if (!def.accepts(x)) {
             auto* d = error("E0301", e.range,
                             "value " + with_unit(x, def.dim) + " is out of range for " + what);
-            d->notes.push_back({{}, "allowed: " + def.allowed([&](double v) { return with_unit(v, def.dim); })});
+            const auto write = [&](double v) { return with_unit(v, def.dim); };
+            d->notes.push_back({{}, "allowed: " + def.allowed(write)});
             return false;
         }
     }

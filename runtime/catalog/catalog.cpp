@@ -613,7 +613,8 @@ const T* find_by_name(std::span<const T> items, std::string_view name) {
 
 std::string ParamDef::allowed(const std::function<std::string(double)>& write) const {
     if (std::isinf(min)) return std::isinf(max) ? "any finite number" : "at most " + write(max);
-    const std::string from = (min_exclusive ? "more than " : std::isinf(max) ? "at least " : "") + write(min);
+    const std::string from =
+        (min_exclusive ? "more than " : std::isinf(max) ? "at least " : "") + write(min);
     return std::isinf(max) ? from : from + " to " + write(max);
 }
 

@@ -29,8 +29,8 @@ size_t utf8_sequence_length(std::string_view s, size_t i) {
         cp = (cp << 6) | (cc & 0x3Fu);
     }
     // Overlong forms, surrogates and values beyond Unicode are invalid too.
-    if ((n == 1 && cp < 0x80) || (n == 2 && cp < 0x800) || (n == 3 && cp < 0x10000) || (cp >= 0xD800 && cp <= 0xDFFF) ||
-        cp > 0x10FFFF) {
+    if ((n == 1 && cp < 0x80) || (n == 2 && cp < 0x800) || (n == 3 && cp < 0x10000) ||
+        (cp >= 0xD800 && cp <= 0xDFFF) || cp > 0x10FFFF) {
         return 0;
     }
     return n + 1;
