@@ -586,6 +586,13 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
             out.insert(out.begin(), {"target", lane});
         }
     }
+    // A lane swerve without target_lid changes to the lane the route needs: the reference's
+    // maneuver then takes its planner's lane_swerve_target. sdv's lane_change(lane = route)
+    // succeeds in place where the route needs no change.
+    if (std::string(cm.maneuver) == "lane_change" &&
+        std::none_of(out.begin(), out.end(), [](const Arg& a) { return a.name == "lane"; })) {
+        out.insert(out.begin(), {"lane", "route"});
+    }
     return out;
 }
 
