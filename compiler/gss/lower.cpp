@@ -586,6 +586,12 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
             out.insert(out.begin(), {"target", lane});
         }
     }
+    // A vehicle's stop without a target stops at the goal: the reference's MStopConfig.target
+    // defaults to StopTarget.GOAL (sdv's stop defaults to now).
+    if (std::string(cm.maneuver) == "stop" &&
+        std::none_of(out.begin(), out.end(), [](const Arg& a) { return a.name == "at"; })) {
+        out.insert(out.begin(), {"at", "goal"});
+    }
     // A lane swerve without target_lid changes to the lane the route needs: the reference's
     // maneuver then takes its planner's lane_swerve_target. sdv's lane_change(lane = route)
     // succeeds in place where the route needs no change.
