@@ -586,18 +586,16 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
             out.insert(out.begin(), {"target", lane});
         }
     }
-    // A vehicle's stop without a target stops at the goal: the reference's MStopConfig.target
-    // defaults to StopTarget.GOAL (sdv's stop defaults to now).
-    if (std::string(cm.maneuver) == "stop" &&
-        std::none_of(out.begin(), out.end(), [](const Arg& a) { return a.name == "at"; })) {
-        out.insert(out.begin(), {"at", "goal"});
-    }
-    // A lane swerve without target_lid changes to the lane the route needs: the reference's
-    // maneuver then takes its planner's lane_swerve_target. sdv's lane_change(lane = route)
-    // succeeds in place where the route needs no change.
-    if (std::string(cm.maneuver) == "lane_change" &&
-        std::none_of(out.begin(), out.end(), [](const Arg& a) { return a.name == "lane"; })) {
-        out.insert(out.begin(), {"lane", "route"});
+    // Where the reference's default differs from the catalog's, the reference's, unless the call
+    // sets the parameter: MStopConfig.target is StopTarget.GOAL (sdv's stop: now); a
+    // MLaneSwerveConfig without target_lid takes its planner's lane_swerve_target, the lane the
+    // route needs (sdv's lane_change: left; with `route` it succeeds in place where the route
+    // needs no change).
+    static const std::map<std::string, Arg> kReferenceDefaults = {{"stop", {"at", "goal"}},
+                                                                  {"lane_change", {"lane", "route"}}};
+    if (auto d = kReferenceDefaults.find(cm.maneuver); d != kReferenceDefaults.end() &&
+        std::none_of(out.begin(), out.end(), [&](const Arg& a) { return a.name == d->second.name; })) {
+        out.insert(out.begin(), d->second);
     }
     return out;
 }
