@@ -25,23 +25,39 @@ std::string snippet(SourceRange r, const SourceManager& sm) {
     const auto b = sm.line_col(r.begin);
     if (b.line == 0) return "";
     const std::string_view text = sm.line_text(r.begin.file, b.line);
-    // Long lines (generated files) are shown as a window around the caret.
+    // Long lines (generated files) are shown as a window around the caret, found from the
+    // caret's byte rather than from the line's start: a line of a megabyte costs no more than a
+    // short one, however many diagnostics it has (a .btree call with 4,000 arguments had one
+    // warning per argument, each of which scanned the line up to its caret).
     constexpr size_t kBefore = 60, kMaxShown = 160;
     const size_t first = b.col > kBefore + 20 ? b.col - kBefore : 1;  // first column shown
     size_t col = b.col - first + 1;
     std::string shown = first > 1 ? "..." : "";
     if (first > 1) col += 3;
-    size_t cp = 0;
-    for (size_t i = 0; i < text.size(); ++i) {
+    const auto continuation = [](char c) { return (static_cast<unsigned char>(c) & 0xC0) == 0x80; };
+    size_t start = 0;  // byte of the line where the window starts
+    if (first > 1) {
+        // From the caret's byte (as line_col clamps it), walking back over the first bytes of
+        // kBefore code points reaches the first byte of column `first`.
+        const std::string_view all = sm.contents(r.begin.file);
+        const auto line_start = static_cast<size_t>(text.data() - all.data());
+        size_t at = std::min<size_t>(r.begin.offset, all.size());
+        for (size_t back = b.col - first; back > 0 && at > line_start;) {
+            if (!continuation(all[--at])) --back;
+        }
+        start = at - line_start;
+    }
+    size_t cp = 0;  // code points shown
+    for (size_t i = start; i < text.size(); ++i) {
         const auto c = static_cast<unsigned char>(text[i]);
-        if ((c & 0xC0) != 0x80) ++cp;
-        if (cp < first) continue;
-        if (cp >= first + kMaxShown) {
-            if ((c & 0xC0) != 0x80) {
+        if (!continuation(text[i])) {
+            if (cp == kMaxShown) {
                 shown += "...";
                 break;
             }
-            continue;
+            ++cp;
+        } else if (cp == 0) {
+            continue;  // bytes that continue no code point before the window
         }
         shown += (c == '\t' || c < 0x20) ? ' ' : static_cast<char>(c);
     }
