@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -489,6 +490,7 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
     std::vector<Arg> out;
     std::vector<std::string> known;
     std::vector<FieldMap> fields = cm.fields;
+    std::map<std::string, std::pair<const char*, diag::SourceRange>> written;  // ours -> its field
     for (const FieldMap& f : cm.pedestrian ? pedestrian_common_fields() : common_fields()) {
         // A class may read a common field its own way (MSelectCrosswalkByLightConfig).
         const bool own = std::any_of(cm.fields.begin(), cm.fields.end(), [&](const FieldMap& g) { return std::string(g.ref) == f.ref; });
@@ -554,7 +556,10 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
                 text = val.vehicle_id(*it);
                 break;
         }
-        if (text) out.push_back({f.ours, *text});
+        if (text) {
+            out.push_back({f.ours, *text});
+            written[f.ours] = {f.ref, it->key_range};
+        }
     }
     args.finish(true, known);
     if (diags.error_count() > before) return std::nullopt;
@@ -596,6 +601,20 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
     if (auto d = kReferenceDefaults.find(cm.maneuver); d != kReferenceDefaults.end() &&
         std::none_of(out.begin(), out.end(), [&](const Arg& a) { return a.name == d->second.name; })) {
         out.insert(out.begin(), d->second);
+    }
+    // MStopConfig reads pos only with target=POS (otherwise it stops at its target, the goal by
+    // default); sdv's stop, likewise, reads position only with at = position.
+    const auto at = std::find_if(out.begin(), out.end(), [](const Arg& a) { return a.name == "at"; });
+    const auto pos = std::find_if(out.begin(), out.end(), [](const Arg& a) { return a.name == "position"; });
+    if (std::string(cm.maneuver) == "stop" && pos != out.end() && at != out.end() && at->text != "position") {
+        const auto& [ref, range] = written.at("position");
+        diags.warning("W0901", "gss-ignored-parameter", range,
+                      "parameter '" + std::string(ref) + "' of " + cm.mconfig + " is ignored")
+            .notes.push_back({{}, "the reference reads it only with target=POS; this stop is " +
+                                      std::string(at->text == "goal"        ? "at the goal"
+                                                  : at->text == "stop_line" ? "at the next stop line"
+                                                                            : "now")});
+        out.erase(pos);
     }
     return out;
 }
