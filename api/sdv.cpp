@@ -51,7 +51,7 @@ std::shared_ptr<const sdv::ir::Program> load(const std::string& path, std::strin
         return std::make_shared<const sdv::ir::Program>(std::move(*r.program));
     }
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     compiler::Compilation c;
     if (compiler::gss::is_geoscenario_path(path)) {
         auto conv = compiler::gss::convert_geoscenario(path, {}, sm, diags);

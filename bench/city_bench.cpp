@@ -226,7 +226,7 @@ int main(int argc, char** argv) {
     for (int n : sizes) {
         const Layout l = layout(n);
         sdv::diag::SourceManager sm;
-        sdv::diag::DiagnosticEngine diags(sm);
+        sdv::diag::DiagnosticEngine diags;
         auto comp = sdv::compiler::compile_source("city.sdv", city(l, duration, left_turns), sm, diags);
         if (!comp.program) {
             std::fprintf(stderr, "%s", sdv::diag::render_all_text(diags.sorted(), sm).c_str());

@@ -176,7 +176,7 @@ int main(int argc, char** argv) {
     const std::string path = "/tmp/sdv_cosim_bench_" + std::to_string(::getpid()) + ".sdv";
     std::ofstream(path) << scenario(n, true);
     sdv::diag::SourceManager sm;
-    sdv::diag::DiagnosticEngine diags(sm);
+    sdv::diag::DiagnosticEngine diags;
     auto plain = sdv::compiler::compile_source("plain.sdv", scenario(n, false), sm, diags);
     if (!plain.program) {
         std::fprintf(stderr, "cosim_bench: the plain scenario does not compile\n");
@@ -185,7 +185,7 @@ int main(int argc, char** argv) {
     std::printf("%d SDVs + 1 external ego, 120 s at 30 Hz, one thread, best of %d runs by median\n", n, repeat);
     std::printf("%-26s %10s %10s %10s %12s\n", "run", "steps/s", "p50 us", "p99 us", "steps");
     sdv::diag::SourceManager sm2;
-    sdv::diag::DiagnosticEngine diags2(sm2);
+    sdv::diag::DiagnosticEngine diags2;
     auto external = sdv::compiler::compile_source("external.sdv", scenario(n, true), sm2, diags2);
     if (!external.program) {
         std::fprintf(stderr, "cosim_bench: the external scenario does not compile\n");

@@ -163,7 +163,7 @@ std::string scene(const Config& c, bool with_pedestrians, bool with_sdvs) {
 
 std::optional<sdv::ir::Program> compile(const std::string& text) {
     sdv::diag::SourceManager sm;
-    sdv::diag::DiagnosticEngine diags(sm);
+    sdv::diag::DiagnosticEngine diags;
     auto comp = sdv::compiler::compile_source("pedestrians.sdv", text, sm, diags);
     if (!comp.program) std::fprintf(stderr, "%s", sdv::diag::render_all_text(diags.sorted(), sm).c_str());
     return std::move(comp.program);

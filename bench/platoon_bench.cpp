@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
     for (int n : sizes) {
         for (bool obstacle : {false, true}) {
             sdv::diag::SourceManager sm;
-            sdv::diag::DiagnosticEngine diags(sm);
+            sdv::diag::DiagnosticEngine diags;
             auto comp = sdv::compiler::compile_source("platoon.sdv", platoon(n, obstacle), sm, diags);
             if (!comp.program) {
                 std::fprintf(stderr, "%s", sdv::diag::render_all_text(diags.sorted(), sm).c_str());

@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
     }
     const std::string file = source + "/examples/sweeps/cut_in_search.sdv";
     sdv::diag::SourceManager sm;
-    sdv::diag::DiagnosticEngine diags(sm);
+    sdv::diag::DiagnosticEngine diags;
     auto c = sdv::compiler::compile_file(file, sm, diags);
     if (!c.program) {
         std::fprintf(stderr, "cannot compile %s\n", file.c_str());

@@ -111,7 +111,7 @@ int load_scenario(const std::string& file, const std::string& scenario, const Co
         std::ifstream in(file, std::ios::binary);
         if (std::filesystem::is_directory(file, ec) || !in) {
             diag::SourceManager sm;
-            diag::DiagnosticEngine diags(sm);
+            diag::DiagnosticEngine diags;
             compiler::compile_file(file, sm, diags);
             report(diags, sm, c);
             return kFailure;
@@ -124,7 +124,7 @@ int load_scenario(const std::string& file, const std::string& scenario, const Co
     std::optional<ir::Program> program;
     if (compiler::gss::is_geoscenario_path(file)) {
         diag::SourceManager sm;
-        diag::DiagnosticEngine diags(sm);
+        diag::DiagnosticEngine diags;
         diags.set_policy(w.policy);
         auto result = compile_input(file, c, sm, diags);
         if (report(diags, sm, c) || !result.program) return kFailure;
@@ -138,7 +138,7 @@ int load_scenario(const std::string& file, const std::string& scenario, const Co
         program = std::move(r.program);
     } else {
         diag::SourceManager sm;
-        diag::DiagnosticEngine diags(sm);
+        diag::DiagnosticEngine diags;
         diags.set_policy(w.policy);
         compiler::CompileOptions opts{c.import_dirs};
         auto result = compiler::compile_source(file, out.text, sm, diags, opts);

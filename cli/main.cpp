@@ -101,7 +101,7 @@ int cmd_lint(const std::vector<std::string>& files, const Common& c, const Warni
     size_t warnings = 0;
     for (const auto& f : files) {
         diag::SourceManager sm;
-        diag::DiagnosticEngine diags(sm);
+        diag::DiagnosticEngine diags;
         diags.set_policy(w.policy);
         compile_input(f, c, sm, diags);
         warnings += diags.warning_count();
@@ -119,7 +119,7 @@ int cmd_lint(const std::vector<std::string>& files, const Common& c, const Warni
 int cmd_compile(const std::string& file, const std::string& out, const std::string& emit,
                 const Common& c, const WarningFlags& w) {
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     diags.set_policy(w.policy);
     if (emit == "tokens") {
         std::ifstream in(file, std::ios::binary);
@@ -411,7 +411,7 @@ int cmd_fmt(const std::vector<std::string>& files, bool check, bool to_stdout, c
         ss << in.rdbuf();
         const std::string original = ss.str();
         diag::SourceManager sm;
-        diag::DiagnosticEngine diags(sm);
+        diag::DiagnosticEngine diags;
         const auto id = sm.add_file(f, original);
         auto formatted = compiler::syntax::format(id, sm, diags);
         if (!formatted) {
@@ -448,7 +448,7 @@ std::optional<ir::Program> load_program(const std::string& file, const Common& c
         return std::move(r.program);
     }
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     compiler::CompileOptions opts{c.import_dirs};
     auto result = compiler::compile_source(file, ss.str(), sm, diags, opts);
     if (diags.has_errors() || !result.program) {
@@ -510,7 +510,7 @@ int cmd_convert(const std::string& file, const std::string& out, const Common& c
         return kUsage;
     }
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     diags.set_policy(w.policy);
     const bool to_stdout = out.empty() || out == "-";
     std::error_code ec;
@@ -561,7 +561,7 @@ int cmd_replay_cosim(const std::string& record, const std::string& out, const Co
     std::optional<ir::Program> program;
     if (compiler::gss::is_geoscenario_path(file)) {
         diag::SourceManager sm;
-        diag::DiagnosticEngine diags(sm);
+        diag::DiagnosticEngine diags;
         auto result = compile_input(file, c, sm, diags);
         if (report(diags, sm, c) || !result.program) return kFailure;
         program = std::move(result.program);

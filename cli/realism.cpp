@@ -150,7 +150,7 @@ std::vector<Job> prepare(const Source& s, const std::vector<std::string>& ids, c
             continue;
         }
         diag::SourceManager sm;
-        diag::DiagnosticEngine diags(sm);
+        diag::DiagnosticEngine diags;
         const std::string display =
             runs_dir.empty() ? j.src.sdv_name + ".sdv" : (fs::path(runs_dir) / j.src.sdv_name / "scenario.sdv").string();
         if (!runs_dir.empty()) {
@@ -417,7 +417,7 @@ bool tree_params(const std::string& call, const std::vector<std::string>& import
     }
     for (const auto& file : imports) {
         diag::SourceManager sm;
-        diag::DiagnosticEngine diags(sm);
+        diag::DiagnosticEngine diags;
         auto comp = compiler::compile_file(file, sm, diags, compiler::CompileOptions{c.import_dirs});
         for (const auto& f : comp.files) {
             if (!f) continue;
@@ -688,7 +688,7 @@ int cmd_convert_recording(const std::string& recording, const std::string& map, 
         return kFailure;
     }
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     const bool to_stdout = out.empty() || out == "-";
     auto comp = compiler::compile_source(to_stdout ? fs::path(recording).stem().string() + ".sdv" : out, src.text, sm, diags,
                                          compiler::CompileOptions{c.import_dirs});

@@ -19,8 +19,6 @@ public:
         bool disable_all = false;           // -w
     };
 
-    explicit DiagnosticEngine(const SourceManager& sm) : sm_(sm) {}
-
     // Adds an error and returns it so the caller can attach notes. Past the error limit the
     // returned diagnostic is a scratch one that is never reported.
     Diagnostic& error(std::string code, SourceRange range, std::string message);
@@ -46,7 +44,6 @@ private:
     enum class Effect { drop, warn, error };
     Effect effect(const Diagnostic& d) const;
 
-    const SourceManager& sm_;
     WarningPolicy policy_;
     std::vector<Diagnostic> items_;
     size_t errors_ = 0;

@@ -1183,7 +1183,7 @@ void BtreeLibrary::condition_overrides(const BtNode& leaf, const Lowered& root, 
     cmap->lower(args, val, lowered);
     args.finish(false, cmap->reads);
     // The node as the tree has it (its diagnostics were reported when the tree was lowered).
-    diag::DiagnosticEngine quiet(sm_);
+    diag::DiagnosticEngine quiet;
     Args original_args(*info.condition, quiet, "condition " + merged.text);
     Values original_val(quiet);
     CondOut original;

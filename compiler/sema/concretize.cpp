@@ -22,7 +22,7 @@ std::optional<std::string> concretize(const std::string& display, const std::str
                                       const std::vector<std::pair<std::string, std::string>>& values,
                                       const std::string& comment, std::string& error) {
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     const auto id = sm.add_file(display, text);
     auto file = syntax::parse(id, sm, diags);
     if (file == nullptr || diags.has_errors()) {

@@ -52,7 +52,7 @@ std::vector<StdTree> std_trees() {
     std::vector<StdTree> out;
     for (const stdlib::File& f : stdlib::files()) {
         diag::SourceManager sm;
-        diag::DiagnosticEngine diags(sm);
+        diag::DiagnosticEngine diags;
         const diag::FileId id = sm.add_file(std::string(f.path), std::string(f.contents));
         auto file = syntax::parse(id, sm, diags);
         if (!file) continue;

@@ -554,7 +554,7 @@ bool Checker::probe_bindings(const ast::ScenarioDecl& s, const ast::VaryParam& v
         slot->lo = si_primary(x, target.type, where);
         if (!slot->spread && !slot->samples) slot->range = where;
         ir::Program probe = probe_base;
-        diag::DiagnosticEngine quiet(sm_);
+        diag::DiagnosticEngine quiet;
         diag::DiagnosticEngine* saved = diags_;
         auto saved_reported = std::move(reported_);
         auto saved_instance_errors = std::move(instance_errors_);

@@ -20,7 +20,7 @@ int sdv_fuzz_btree(const uint8_t* data, size_t size) {
     const std::string path = fuzz::fresh_dir("btree") + "/input.btree";
     fuzz::write_file(path, std::string_view(reinterpret_cast<const char*>(data), size));
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     const compiler::gss::ConvertOptions options{fuzz::btree_library(), {}, ""};
     auto converted = compiler::gss::convert_btrees({path}, options, sm, diags);
     if (converted && !diags.has_errors()) {

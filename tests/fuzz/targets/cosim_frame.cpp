@@ -47,7 +47,7 @@ constexpr size_t kMaxFrames = 48;
 std::shared_ptr<const ir::Program> program() {
     static const std::shared_ptr<const ir::Program> p = [] {
         diag::SourceManager sm;
-        diag::DiagnosticEngine diags(sm);
+        diag::DiagnosticEngine diags;
         auto c = compiler::compile_source("cosim_highway.sdv", std::string(fuzz::cosim_scenario_text()), sm, diags);
         if (!c.program) fuzz::fail(kTarget, "the embedded co-simulation scenario does not compile");
         return std::make_shared<const ir::Program>(std::move(*c.program));

@@ -75,7 +75,7 @@ std::string map_name(const std::string& text) {
 
 void check_no_injection(const std::string& path, const std::string& text, const ir::Program& program) {
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     auto sc = compiler::gss::read_geoscenario(sm.add_file(path, text), sm, diags);
     if (!sc) fuzz::fail(kTarget, "converted, but the scenario does not read again");
     if (program.scenarios.size() != 1) fuzz::fail(kTarget, "the converted text has " + std::to_string(program.scenarios.size()) + " scenarios");
@@ -107,7 +107,7 @@ int sdv_fuzz_gss_scenario(const uint8_t* data, size_t size) {
     if (const std::string map = map_name(text); !map.empty() && map != "input.gs.osm") fuzz::write_file(dir + "/" + map, kMap);
 
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     const compiler::gss::ConvertOptions options{fuzz::btree_library(), {}, dir};
     auto converted = compiler::gss::convert_geoscenario(path, options, sm, diags);
     if (converted && !diags.has_errors()) {

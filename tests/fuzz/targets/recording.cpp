@@ -63,7 +63,7 @@ void replay_first(realism::Recording& rec, const road::RoadNetwork& net) {
         const auto src = compiler::recorded::replay_source(rec, net, spec);
         if (!src.error.empty()) return;
         diag::SourceManager sm;
-        diag::DiagnosticEngine diags(sm);
+        diag::DiagnosticEngine diags;
         auto c = compiler::compile_source("replay.sdv", src.text, sm, diags);
         if (!c.program) {
             std::string first;

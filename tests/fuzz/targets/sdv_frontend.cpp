@@ -33,7 +33,7 @@ void render(const diag::DiagnosticEngine& diags, const diag::SourceManager& sm) 
 // sdv lint / sdv compile.
 void compile(const std::string& text) {
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     auto result = compiler::compile_source(kPath, text, sm, diags);
     render(diags, sm);
     if (!result.files.empty() && result.files[0]) (void)compiler::ast::dump(*result.files[0], sm);
@@ -50,7 +50,7 @@ void compile(const std::string& text) {
 // sdv fmt (and sdv compile --emit tokens).
 void format(const std::string& text) {
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     const auto id = sm.add_file(kPath, text);
     (void)compiler::syntax::dump_tokens(id, sm);
     auto formatted = compiler::syntax::format(id, sm, diags);
@@ -58,7 +58,7 @@ void format(const std::string& text) {
     if (!formatted) return;
     if (*formatted == text) return;  // formatting it again would repeat this very call
     diag::SourceManager sm2;
-    diag::DiagnosticEngine diags2(sm2);
+    diag::DiagnosticEngine diags2;
     auto again = compiler::syntax::format(sm2.add_file(kPath, *formatted), sm2, diags2);
     if (!again) fuzz::fail(kTarget, "the formatted text does not parse");
     if (*again != *formatted) fuzz::fail(kTarget, "formatting is not idempotent");

@@ -66,7 +66,7 @@ scenario s {
 
 std::optional<ir::Program> compile(const std::string& text) {
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     auto c = compiler::compile_source("bindings.sdv", text, sm, diags);
     for (const auto& d : diags.sorted()) {
         if (d.severity == diag::Severity::error) MESSAGE(d.code << " " << d.message);

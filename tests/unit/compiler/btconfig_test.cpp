@@ -117,7 +117,7 @@ struct Lowered {
 
 Lowered lower_and_compile(const fs::path& dir, const std::string& btconfig) {
     sdv::diag::SourceManager sm;
-    sdv::diag::DiagnosticEngine diags(sm);
+    sdv::diag::DiagnosticEngine diags;
     sdv::compiler::gss::BtreeLibrary lib({dir.string()}, sm, diags);
     Lowered r;
     auto call = lib.call_with_config("t0", btconfig, "btconfig", {}, sdv::compiler::gss::BtAgent::vehicle);
@@ -131,7 +131,7 @@ Lowered lower_and_compile(const fs::path& dir, const std::string& btconfig) {
                              "    ego e: sdv {\n        start lane 1 at 10 m\n        tree " + *call +
                              "\n    }\n    expect no_collision()\n}\n";
     sdv::diag::SourceManager sm2;
-    sdv::diag::DiagnosticEngine diags2(sm2);
+    sdv::diag::DiagnosticEngine diags2;
     auto c = sdv::compiler::compile_source("lowered.sdv", text, sm2, diags2);
     r.diags = diags2.sorted();
     if (c.program) r.ir = json::parse(sdv::ir::write_ir(*c.program));

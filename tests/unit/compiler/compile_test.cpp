@@ -23,7 +23,7 @@ struct Result {
 
 std::unique_ptr<Result> compile(const std::string& src, const std::string& path = "test.sdv") {
     auto r = std::make_unique<Result>();
-    r->diags = std::make_unique<diag::DiagnosticEngine>(r->sm);
+    r->diags = std::make_unique<diag::DiagnosticEngine>();
     r->comp = compiler::compile_source(path, src, r->sm, *r->diags);
     r->text = diag::render_all_text(r->diags->sorted(), r->sm);
     return r;

@@ -83,7 +83,7 @@ struct Outcome {
 
 Outcome run_format(const std::string& text) {
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     const auto id = sm.add_file("m.sdv", text);
     auto formatted = compiler::syntax::format(id, sm, diags);
     return {formatted.has_value(), formatted ? "" : diag::render_all_text(diags.sorted(), sm),
@@ -92,7 +92,7 @@ Outcome run_format(const std::string& text) {
 
 Outcome run_parse(const std::string& text) {
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     const auto id = sm.add_file("m.sdv", text);
     const bool ok = compiler::syntax::parse(id, sm, diags) != nullptr;
     return {ok, ok ? "" : diag::render_all_text(diags.sorted(), sm), ""};

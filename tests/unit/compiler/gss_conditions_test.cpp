@@ -54,7 +54,7 @@ Outcome convert_and_compile(const std::string& dir, const std::string& text, int
     const std::string path = dir + "/t.btree";
     std::ofstream(path) << text;
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     Outcome o;
     auto converted = compiler::gss::convert_btrees({path}, {{dir}, {}, ""}, sm, diags);
     o.accepted = converted && !diags.has_errors();
@@ -62,7 +62,7 @@ Outcome convert_and_compile(const std::string& dir, const std::string& text, int
         if (unreachable != nullptr && d.code == "W0906") ++*unreachable;
     }
     if (o.accepted) {
-        diag::DiagnosticEngine compile_diags(sm);
+        diag::DiagnosticEngine compile_diags;
         (void)compiler::compile_source(path + ".sdv", converted->text, sm, compile_diags);
         o.compiled = !compile_diags.has_errors();
         for (const auto& d : compile_diags.sorted()) o.messages += d.code + " " + d.message + "\n";

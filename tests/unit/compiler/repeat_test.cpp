@@ -22,7 +22,7 @@ struct Result {
 
 Result compile(const std::string& text) {
     sdv::diag::SourceManager sm;
-    sdv::diag::DiagnosticEngine diags(sm);
+    sdv::diag::DiagnosticEngine diags;
     auto c = compile_source("test.sdv", text, sm, diags);
     Result r;
     r.diags = diags.sorted();

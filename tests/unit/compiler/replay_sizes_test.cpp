@@ -36,7 +36,7 @@ std::string read(const std::string& path) {
 // The first error of compiling `text`, or "" when it compiles.
 std::string compile_error(const std::string& text) {
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     const auto c = compiler::compile_source("replay.sdv", text, sm, diags);
     for (const auto& d : diags.sorted()) {
         if (d.severity == diag::Severity::error) return d.code + " " + d.message;

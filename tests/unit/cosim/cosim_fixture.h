@@ -36,7 +36,7 @@ inline std::string cosim_scenario_path() {
 inline std::shared_ptr<const ir::Program> cosim_program() {
     static std::shared_ptr<const ir::Program> program = [] {
         diag::SourceManager sm;
-        diag::DiagnosticEngine diags(sm);
+        diag::DiagnosticEngine diags;
         std::ifstream in(cosim_scenario_path(), std::ios::binary);
         std::stringstream text;
         text << in.rdbuf();

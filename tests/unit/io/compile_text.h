@@ -13,7 +13,7 @@ namespace sdv::test {
 
 inline std::optional<ir::Program> compile_text(const std::string& text) {
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     auto c = compiler::compile_source("test.sdv", text, sm, diags);
     if (!c.program) {
         for (const auto& d : diags.sorted()) MESSAGE(d.message);

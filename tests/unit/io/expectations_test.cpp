@@ -29,7 +29,7 @@ Run run(const std::string& scenario, const std::string& trees = "") {
     const std::string text = "road r {\n lanes 2 forward\n straight 600 m\n}\n" + trees +
                              "\nscenario s {\n road r\n" + scenario + "\n}\n";
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     auto c = compiler::compile_source("test.sdv", text, sm, diags);
     for (const auto& d : diags.sorted()) MESSAGE(d.message);
     REQUIRE(c.program);

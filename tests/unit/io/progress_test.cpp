@@ -20,7 +20,7 @@ namespace {
 
 std::optional<ir::Program> load(const fs::path& path) {
     diag::SourceManager sm;
-    diag::DiagnosticEngine diags(sm);
+    diag::DiagnosticEngine diags;
     if (path.extension() == ".osm") {
         const fs::path gss = fs::path(SDV_SHARED_DIR) / "data" / "geoscenario";
         compiler::gss::ConvertOptions opts{{(gss / "btrees" / "sdv").string()}, {}, ""};
