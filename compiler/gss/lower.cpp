@@ -607,9 +607,10 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
     const auto at = std::find_if(out.begin(), out.end(), [](const Arg& a) { return a.name == "at"; });
     const auto pos = std::find_if(out.begin(), out.end(), [](const Arg& a) { return a.name == "position"; });
     if (std::string(cm.maneuver) == "stop" && pos != out.end() && at != out.end() && at->text != "position") {
-        const auto& [ref, range] = written.at("position");
-        diags.warning("W0901", "gss-ignored-parameter", range,
-                      "parameter '" + std::string(ref) + "' of " + cm.mconfig + " is ignored")
+        const auto w = written.find("position");
+        diags.warning("W0901", "gss-ignored-parameter", w != written.end() ? w->second.second : call.range,
+                      "parameter '" + std::string(w != written.end() ? w->second.first : "pos") + "' of " +
+                          cm.mconfig + " is ignored")
             .notes.push_back({{}, "the reference reads it only with target=POS; this stop is " +
                                       std::string(at->text == "goal"        ? "at the goal"
                                                   : at->text == "stop_line" ? "at the next stop line"
