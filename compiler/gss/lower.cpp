@@ -491,6 +491,12 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
     std::vector<std::string> known;
     std::vector<FieldMap> fields = cm.fields;
     std::map<std::string, std::pair<const char*, diag::SourceRange>> written;  // ours -> its field
+    // Warning W0901: a parameter of the call that the conversion leaves out.
+    const auto ignored = [&](diag::SourceRange at, const char* ref, std::string why) {
+        diags.warning("W0901", "gss-ignored-parameter", at,
+                      "parameter '" + std::string(ref) + "' of " + cm.mconfig + " is ignored")
+            .notes.push_back({{}, std::move(why)});
+    };
     for (const FieldMap& f : cm.pedestrian ? pedestrian_common_fields() : common_fields()) {
         // A class may read a common field its own way (MSelectCrosswalkByLightConfig).
         const bool own = std::any_of(cm.fields.begin(), cm.fields.end(), [&](const FieldMap& g) { return std::string(g.ref) == f.ref; });
@@ -538,17 +544,11 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
             case Conv::ignore_if_zero: {
                 bool zero = it->value.kind == BtValue::Kind::tuple;
                 for (const auto& e : it->value.items) zero = zero && e.value.kind == BtValue::Kind::number && e.value.number == 0;
-                if (!zero) {
-                    diags.warning("W0901", "gss-ignored-parameter", it->key_range,
-                                  "parameter '" + std::string(f.ref) + "' of " + cm.mconfig + " is ignored")
-                        .notes.push_back({{}, "sdv plans lateral motion to the target lane's centre plus lat_offset"});
-                }
+                if (!zero) ignored(it->key_range, f.ref, "sdv plans lateral motion to the target lane's centre plus lat_offset");
                 continue;
             }
             case Conv::ignore:
-                diags.warning("W0901", "gss-ignored-parameter", it->key_range,
-                              "parameter '" + std::string(f.ref) + "' of " + cm.mconfig + " is ignored")
-                    .notes.push_back({{}, f.note != nullptr ? f.note : "sdv's planner has no equivalent setting"});
+                ignored(it->key_range, f.ref, f.note != nullptr ? f.note : "sdv's planner has no equivalent setting");
                 continue;
             case Conv::accept: continue;
             case Conv::vehicle_or_none:
@@ -608,13 +608,11 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
     const auto pos = std::find_if(out.begin(), out.end(), [](const Arg& a) { return a.name == "position"; });
     if (std::string(cm.maneuver) == "stop" && pos != out.end() && at != out.end() && at->text != "position") {
         const auto w = written.find("position");
-        diags.warning("W0901", "gss-ignored-parameter", w != written.end() ? w->second.second : call.range,
-                      "parameter '" + std::string(w != written.end() ? w->second.first : "pos") + "' of " +
-                          cm.mconfig + " is ignored")
-            .notes.push_back({{}, "the reference reads it only with target=POS; this stop is " +
-                                      std::string(at->text == "goal"        ? "at the goal"
-                                                  : at->text == "stop_line" ? "at the next stop line"
-                                                                            : "now")});
+        ignored(w != written.end() ? w->second.second : call.range, w != written.end() ? w->second.first : "pos",
+                "the reference reads it only with target=POS; this stop is " +
+                    std::string(at->text == "goal"        ? "at the goal"
+                                : at->text == "stop_line" ? "at the next stop line"
+                                                          : "now"));
         out.erase(pos);
     }
     return out;
