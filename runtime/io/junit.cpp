@@ -4,27 +4,10 @@
 #include <cmath>
 
 #include "runtime/catalog/catalog.h"
+#include "runtime/io/text.h"
 
 namespace sdv::io {
 namespace {
-
-std::string esc(const std::string& s) {
-    std::string out;
-    for (unsigned char c : s) {
-        switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            case '\n': out += "&#10;"; break;
-            case '\t': out += "&#9;"; break;
-            default:
-                if (c < 0x20) break;  // not allowed in XML 1.0
-                out += static_cast<char>(c);
-        }
-    }
-    return out;
-}
 
 constexpr auto num = catalog::format_number;
 
@@ -58,27 +41,27 @@ std::string junit_xml(const std::vector<JUnitSuite>& suites) {
             e += c.error ? 1 : 0;
             t += c.time;
         }
-        out += "  <testsuite name=\"" + esc(s.name) + "\" tests=\"" + std::to_string(s.cases.size()) +
+        out += "  <testsuite name=\"" + xml_text(s.name) + "\" tests=\"" + std::to_string(s.cases.size()) +
                "\" failures=\"" + std::to_string(f) + "\" errors=\"" + std::to_string(e) + "\" skipped=\"0\" time=\"" +
                num(t) + "\">\n";
         if (!s.properties.empty()) {
             out += "    <properties>\n";
             for (const auto& [k, v] : s.properties) {
-                out += "      <property name=\"" + esc(k) + "\" value=\"" + esc(v) + "\"/>\n";
+                out += "      <property name=\"" + xml_text(k) + "\" value=\"" + xml_text(v) + "\"/>\n";
             }
             out += "    </properties>\n";
         }
         for (const auto& c : s.cases) {
-            out += "    <testcase name=\"" + esc(c.name) + "\" classname=\"" + esc(c.classname) + "\" time=\"" +
+            out += "    <testcase name=\"" + xml_text(c.name) + "\" classname=\"" + xml_text(c.classname) + "\" time=\"" +
                    num(c.time) + "\"";
             if (!c.failure && !c.error && c.output.empty()) {
                 out += "/>\n";
                 continue;
             }
             out += ">\n";
-            if (c.failure) out += "      <failure message=\"" + esc(*c.failure) + "\" type=\"expectation\"/>\n";
-            if (c.error) out += "      <error message=\"" + esc(*c.error) + "\" type=\"runtime\"/>\n";
-            if (!c.output.empty()) out += "      <system-out>" + esc(c.output) + "</system-out>\n";
+            if (c.failure) out += "      <failure message=\"" + xml_text(*c.failure) + "\" type=\"expectation\"/>\n";
+            if (c.error) out += "      <error message=\"" + xml_text(*c.error) + "\" type=\"runtime\"/>\n";
+            if (!c.output.empty()) out += "      <system-out>" + xml_text(c.output) + "</system-out>\n";
             out += "    </testcase>\n";
         }
         out += "  </testsuite>\n";

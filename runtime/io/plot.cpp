@@ -5,10 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
+#include <cstdlib>
 #include <map>
 #include <sstream>
 #include <vector>
+
+#include "runtime/io/run_dir.h"
+#include "runtime/io/text.h"
+#include "runtime/road/reader_text.h"
 
 namespace sdv::io {
 namespace {
@@ -28,33 +32,40 @@ std::string f2(double v) {
 }  // namespace
 
 std::string plot_run(const std::string& dir, std::string& error) {
-    std::ifstream rj(dir + "/road.json");
-    std::ifstream tc(dir + "/trajectories.csv");
-    if (!rj || !tc) {
+    std::string road_text, csv;
+    if (!road::read_file(dir + "/road.json", road_text) || !road::read_file(dir + "/trajectories.csv", csv)) {
         error = "'" + dir + "' is not a run directory (needs road.json and trajectories.csv; run it with sdv run -o)";
         return "";
     }
-    std::stringstream rs;
-    rs << rj.rdbuf();
-    const auto road = nlohmann::json::parse(rs.str(), nullptr, false);
-    if (road.is_discarded() || !road.contains("lanes")) {
-        error = "invalid road.json in '" + dir + "'";
+    const auto road = nlohmann::json::parse(road_text, nullptr, false);
+    if (road.is_discarded() || !road.is_object() || !road.contains("lanes") || !road["lanes"].is_array()) {
+        error = "invalid road.json in '" + dir + "' (expected an object with an array of lanes)";
         return "";
     }
     std::map<std::string, std::vector<Sample>> paths;  // ordered by vehicle name
     std::map<std::string, bool> pedestrian;            // the `kind` column says so
     std::vector<std::string> order;
+    const std::string csv_name = dir + "/trajectories.csv";
+    std::istringstream tc(csv);
     std::string line;
     std::getline(tc, line);
+    if (line.rfind(kTrajectoriesHeader, 0) != 0) {
+        error = csv_name + ":1: unexpected header (expected " + std::string(kTrajectoriesHeader) + ")";
+        return "";
+    }
+    size_t row = 1;
+    TrajectoryRow r;
     while (std::getline(tc, line)) {
-        std::vector<std::string> f;
-        std::stringstream ss(line);
-        std::string cell;
-        while (std::getline(ss, cell, ',')) f.push_back(cell);
-        if (f.size() < 8) continue;
-        if (!paths.count(f[2])) order.push_back(f[2]);
-        pedestrian[f[2]] = f[3] == "pedestrian";
-        paths[f[2]].push_back({std::atof(f[0].c_str()), std::atof(f[4].c_str()), std::atof(f[5].c_str()), std::atof(f[7].c_str())});
+        ++row;
+        if (const std::string wrong = parse_trajectory_row(line, r); !wrong.empty()) {
+            error = csv_name + ":" + std::to_string(row) + ": " + wrong;
+            return "";
+        }
+        const std::string name(r.vehicle);
+        if (!paths.count(name)) order.push_back(name);
+        pedestrian[name] = r.kind == "pedestrian";
+        auto number = [](std::string_view t) { return std::strtod(std::string(t).c_str(), nullptr); };
+        paths[name].push_back({number(r.time), number(r.x), number(r.y), number(r.speed)});
     }
     // Extent of the map panel: the vehicles' paths plus a margin (whole maps can be huge).
     double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY, tmax = 1, vmax = 1;
@@ -92,6 +103,7 @@ std::string plot_run(const std::string& dir, std::string& error) {
     // Walkways and crosswalks (road.json has them only when the road does): closed outlines of
     // their two bounds, walkways light grey, crosswalks hatched.
     auto area = [&](const nlohmann::json& a, const char* style) {
+        if (!a.is_object()) return;
         const auto left = a.value("left", nlohmann::json()), right = a.value("right", nlohmann::json());
         auto point = [](const nlohmann::json& p) { return p.is_array() && p.size() == 2 && p[0].is_number() && p[1].is_number(); };
         if (!left.is_array() || !right.is_array() || left.size() < 2 || right.size() < 2) return;
@@ -113,6 +125,7 @@ std::string plot_run(const std::string& dir, std::string& error) {
         for (const auto& w : road["walkways"]) area(w, "fill=\"#eeeff1\" stroke=\"#ccc\"");
     }
     for (const auto& l : road["lanes"]) {
+        if (!l.is_object()) continue;
         poly(l.value("left", nlohmann::json()), "stroke=\"#bbb\"");
         poly(l.value("right", nlohmann::json()), "stroke=\"#bbb\"");
         poly(l.value("centre", nlohmann::json()), "stroke=\"#eee\" stroke-dasharray=\"4 4\"");
@@ -125,7 +138,7 @@ std::string plot_run(const std::string& dir, std::string& error) {
     // Pedestrians' paths are dashed and labelled as pedestrians, here and in the speed plot.
     // The name is the text's own (what scripts read), the kind a tspan after it.
     auto label = [&](const std::string& name) {
-        return pedestrian[name] ? name + "<tspan font-style=\"italic\"> (pedestrian)</tspan>" : name;
+        return xml_text(name) + (pedestrian[name] ? "<tspan font-style=\"italic\"> (pedestrian)</tspan>" : "");
     };
     auto dash = [&](const std::string& name) { return pedestrian[name] ? " stroke-dasharray=\"5 3\"" : ""; };
     o << "</g>\n<g id=\"paths\" fill=\"none\" stroke-width=\"2\">\n";

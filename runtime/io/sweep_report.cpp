@@ -14,6 +14,8 @@
 #include <system_error>
 #include <vector>
 
+#include "runtime/io/text.h"
+
 namespace sdv::io {
 namespace {
 
@@ -33,9 +35,6 @@ bool read(const fs::path& p, std::string& out) {
     out = ss.str();
     return true;
 }
-
-// Dumps that never throw on invalid UTF-8 (an error message may carry any bytes).
-std::string dump(const Json& j) { return j.dump(-1, ' ', false, Json::error_handler_t::replace); }
 
 // ---- results.csv: RFC 4180 records with the line and column of every field ----------------
 
@@ -369,7 +368,7 @@ std::string report(const std::string& dir_text, std::string& error) {
                     o += f.text;
                     break;
                 case Kind::Error:
-                    o += f.text.empty() ? std::string("null") : dump(Json(f.text));
+                    o += f.text.empty() ? std::string("null") : json_text(Json(f.text));
                     break;
                 case Kind::Count:
                     if (f.text.empty())
@@ -424,8 +423,8 @@ std::string report(const std::string& dir_text, std::string& error) {
     }
 
     std::string data = std::string("{\"format\":\"") + kReportFormat +
-                       "\",\"summary\":" + dump(summary) + ",\"columns\":[";
-    for (size_t c = 0; c < cols.size(); ++c) data += (c ? "," : "") + dump(Json(cols[c].name));
+                       "\",\"summary\":" + json_text(summary) + ",\"columns\":[";
+    for (size_t c = 0; c < cols.size(); ++c) data += (c ? "," : "") + json_text(Json(cols[c].name));
     data += "],\"values\":[";
     for (size_t c = 0; c < cols.size(); ++c) data += (c ? ",[" : "[") + out[c] + "]";
     data += "],\"kept\":[";

@@ -12,20 +12,15 @@
 #include <sstream>
 #include <vector>
 
+#include "runtime/io/run_dir.h"
+#include "runtime/io/text.h"
+#include "runtime/road/reader_text.h"
+
 namespace sdv::io {
 namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
-
-bool read(const fs::path& p, std::string& out) {
-    std::ifstream in(p, std::ios::binary);
-    if (!in) return false;
-    std::stringstream ss;
-    ss << in.rdbuf();
-    out = ss.str();
-    return true;
-}
 
 // One vehicle's columns, kept as the CSV's own number text (already rounded).
 struct Series {
@@ -63,6 +58,13 @@ void array(std::string& out, const std::vector<int>& v) {
     out += ']';
 }
 
+// The string `key` of object `j`, or "" when it has none (nlohmann's value() throws on a key of
+// another type).
+std::string text_of(const Json& j, const char* key) {
+    const auto it = j.find(key);
+    return it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+
 int index_of(std::vector<std::string>& names, std::map<std::string, int>& idx, const std::string& n) {
     auto [it, fresh] = idx.try_emplace(n, static_cast<int>(names.size()));
     if (fresh) names.push_back(n);
@@ -74,7 +76,7 @@ int index_of(std::vector<std::string>& names, std::map<std::string, int>& idx, c
 std::string view_report(const std::string& run_dir, std::string& error) {
     const fs::path dir(run_dir);
     std::string summary_text, road_text, csv, decisions_text;
-    if (!read(dir / "summary.json", summary_text) || !read(dir / "trajectories.csv", csv)) {
+    if (!road::read_file((dir / "summary.json").string(), summary_text) || !road::read_file((dir / "trajectories.csv").string(), csv)) {
         error = "'" + run_dir + "' is not a run directory (it needs summary.json and trajectories.csv from `sdv run -o`)";
         return "";
     }
@@ -84,72 +86,71 @@ std::string view_report(const std::string& run_dir, std::string& error) {
         return "";
     }
     Json road = Json::object();
-    if (read(dir / "road.json", road_text)) {
+    if (road::read_file((dir / "road.json").string(), road_text)) {
         road = Json::parse(road_text, nullptr, false);
         if (road.is_discarded()) {
             error = (dir / "road.json").string() + ": not valid JSON";
             return "";
         }
     }
-    // trajectories.csv: time,tick,vehicle,kind,x,y,yaw,speed,accel,s,d,lane,maneuver
+    // trajectories.csv (run_dir.h): a row per agent and tick, each agent at every tick from its
+    // first to its last (the viewer places an agent's values by tick from its first).
     std::vector<std::string> times;
     std::vector<Series> vehicles;
-    std::map<std::string, size_t> by_name;
+    std::vector<long> last_tick;  // per vehicle
+    std::map<std::string, size_t, std::less<>> by_name;
     std::vector<std::string> lanes, maneuvers;
     std::map<std::string, int> lane_idx, man_idx;
+    const std::string csv_name = (dir / "trajectories.csv").string();
     std::istringstream in(csv);
     std::string line;
     std::getline(in, line);
-    if (line.rfind("time,tick,vehicle,kind,x,y,yaw,speed,accel,s,d,lane,maneuver", 0) != 0) {
-        error = (dir / "trajectories.csv").string() + ": unexpected header";
+    if (line.rfind(kTrajectoriesHeader, 0) != 0) {
+        error = csv_name + ":1: unexpected header (expected " + std::string(kTrajectoriesHeader) + ")";
         return "";
     }
     size_t row = 1;
+    TrajectoryRow r;
     while (std::getline(in, line)) {
         ++row;
-        std::vector<std::string> f;
-        f.reserve(13);
-        size_t start = 0;
-        for (size_t i = 0; i <= line.size(); ++i) {
-            if (i == line.size() || line[i] == ',') {
-                f.emplace_back(line, start, i - start);
-                start = i + 1;
-            }
-        }
-        if (f.size() != 13) {
-            error = (dir / "trajectories.csv").string() + ":" + std::to_string(row) + ": expected 13 columns";
+        const std::string wrong = parse_trajectory_row(line, r);
+        if (!wrong.empty()) {
+            error = csv_name + ":" + std::to_string(row) + ": " + wrong;
             return "";
         }
-        const long tick = std::strtol(f[1].c_str(), nullptr, 10);
-        if (tick < 0 || tick > 100000000) {
-            error = (dir / "trajectories.csv").string() + ":" + std::to_string(row) + ": bad tick";
-            return "";
-        }
-        if (static_cast<size_t>(tick) >= times.size()) times.resize(static_cast<size_t>(tick) + 1);
-        times[static_cast<size_t>(tick)] = f[0];
-        auto [it, fresh] = by_name.try_emplace(f[2], vehicles.size());
+        const auto tick = static_cast<size_t>(r.tick);
+        if (tick >= times.size()) times.resize(tick + 1);
+        times[tick] = r.time;
+        auto [it, fresh] = by_name.try_emplace(std::string(r.vehicle), vehicles.size());
         if (fresh) {
             vehicles.emplace_back();
-            vehicles.back().name = f[2];
-            vehicles.back().kind = f[3];
-            vehicles.back().first = tick;
+            vehicles.back().name = r.vehicle;
+            vehicles.back().kind = r.kind;
+            vehicles.back().first = r.tick;
+            last_tick.push_back(r.tick);
+        } else if (r.tick != last_tick[it->second] + 1) {
+            error = csv_name + ":" + std::to_string(row) + ": agent " + json_text(Json(std::string(r.vehicle.substr(0, 40)))) +
+                    " at tick " + std::to_string(r.tick) + " after tick " + std::to_string(last_tick[it->second]) +
+                    " (an agent has a row at every tick from its first to its last)";
+            return "";
         }
+        last_tick[it->second] = r.tick;
         Series& v = vehicles[it->second];
-        v.x.push_back(f[4]);
-        v.y.push_back(f[5]);
-        v.yaw.push_back(f[6]);
-        v.speed.push_back(f[7]);
-        v.accel.push_back(f[8]);
-        v.s.push_back(f[9]);
-        v.d.push_back(f[10]);
-        v.lane.push_back(index_of(lanes, lane_idx, f[11]));
-        v.maneuver.push_back(index_of(maneuvers, man_idx, f[12].empty() ? "none" : f[12]));
+        v.x.emplace_back(r.x);
+        v.y.emplace_back(r.y);
+        v.yaw.emplace_back(r.yaw);
+        v.speed.emplace_back(r.speed);
+        v.accel.emplace_back(r.accel);
+        v.s.emplace_back(r.s);
+        v.d.emplace_back(r.d);
+        v.lane.push_back(index_of(lanes, lane_idx, std::string(r.lane)));
+        v.maneuver.push_back(index_of(maneuvers, man_idx, r.maneuver.empty() ? "none" : std::string(r.maneuver)));
     }
     // A replay (sdv replay) keeps the replaced vehicle's recording in recorded.csv
     // (vehicle,t,x,y,heading,speed): shown as one more agent of kind "recorded", sampled at the
     // run's ticks within the recorded span, next to the simulated one.
     std::string recorded_text;
-    if (read(dir / "recorded.csv", recorded_text) && !times.empty()) {
+    if (road::read_file((dir / "recorded.csv").string(), recorded_text) && !times.empty()) {
         struct Rec {
             double t, x, y, h, v;
         };
@@ -157,17 +158,30 @@ std::string view_report(const std::string& run_dir, std::string& error) {
         std::string rec_name;
         std::istringstream rl(recorded_text);
         std::getline(rl, line);
+        size_t rec_row = 1;
         while (std::getline(rl, line)) {
+            ++rec_row;
             std::vector<std::string> f;
             std::stringstream ls(line);
             for (std::string c; std::getline(ls, c, ',');) f.push_back(c);
-            if (f.size() != 6) continue;
-            char* e = nullptr;
-            Rec r{std::strtod(f[1].c_str(), &e), std::strtod(f[2].c_str(), nullptr), std::strtod(f[3].c_str(), nullptr),
-                  std::strtod(f[4].c_str(), nullptr), std::strtod(f[5].c_str(), nullptr)};
-            if (!pts.empty() && !(r.t > pts.back().t)) continue;
+            // vehicle,t,x,y,heading,speed: finite numbers (a NaN would be written into the
+            // page as "nan", which is no JSON), times increasing.
+            bool ok = f.size() == 6;
+            double n[5] = {};
+            for (size_t k = 0; ok && k < 5; ++k) {
+                char* end = nullptr;
+                n[k] = std::strtod(f[k + 1].c_str(), &end);
+                ok = !f[k + 1].empty() && *end == '\0' && std::isfinite(n[k]) && std::fabs(n[k]) < 1e9;
+            }
+            if (!ok) {
+                error = (dir / "recorded.csv").string() + ":" + std::to_string(rec_row) +
+                        ": expected vehicle,t,x,y,heading,speed with numbers under 1e9";
+                return "";
+            }
+            const Rec rec{n[0], n[1], n[2], n[3], n[4]};
+            if (!pts.empty() && !(rec.t > pts.back().t)) continue;
             rec_name = f[0];
-            pts.push_back(r);
+            pts.push_back(rec);
         }
         if (pts.size() >= 2) {
             Series v;
@@ -182,7 +196,7 @@ std::string view_report(const std::string& run_dir, std::string& error) {
             };
             for (size_t tick = 0; tick < times.size(); ++tick) {
                 const double t = std::strtod(times[tick].c_str(), nullptr);
-                if (t < pts.front().t - 1e-9 || t > pts.back().t + 1e-9) {
+                if (times[tick].empty() || t < pts.front().t - 1e-9 || t > pts.back().t + 1e-9) {
                     if (v.first >= 0) break;
                     continue;
                 }
@@ -204,25 +218,28 @@ std::string view_report(const std::string& run_dir, std::string& error) {
     }
     // Sizes from the summary (written by sdv run); defaults otherwise.
     std::map<std::string, std::pair<double, double>> sizes;
-    if (summary.contains("metrics") && summary["metrics"].contains("vehicles")) {
-        for (const auto& vj : summary["metrics"]["vehicles"]) {
-            if (vj.contains("vehicle") && vj.contains("length") && vj.contains("width")) {
+    const Json& metrics = summary.contains("metrics") ? summary["metrics"] : Json();
+    if (metrics.is_object() && metrics.contains("vehicles") && metrics["vehicles"].is_array()) {
+        for (const auto& vj : metrics["vehicles"]) {
+            if (vj.is_object() && vj.contains("vehicle") && vj["vehicle"].is_string() && vj.contains("length") &&
+                vj["length"].is_number() && vj.contains("width") && vj["width"].is_number()) {
                 sizes[vj["vehicle"].get<std::string>()] = {vj["length"].get<double>(), vj["width"].get<double>()};
             }
         }
     }
-    std::string data = "{\"format\":\"sdv-view/1\",\"scenario\":" + Json(summary.value("scenario", "")).dump();
-    data += ",\"summary\":" + summary.dump() + ",\"road\":" + road.dump() + ",\"times\":";
+    const Json scenario = summary.contains("scenario") && summary["scenario"].is_string() ? summary["scenario"] : Json("");
+    std::string data = "{\"format\":\"sdv-view/1\",\"scenario\":" + json_text(scenario);
+    data += ",\"summary\":" + json_text(summary) + ",\"road\":" + json_text(road) + ",\"times\":";
     array(data, times);
-    data += ",\"lanes\":" + Json(lanes).dump() + ",\"maneuvers\":" + Json(maneuvers).dump() + ",\"vehicles\":[";
+    data += ",\"lanes\":" + json_text(Json(lanes)) + ",\"maneuvers\":" + json_text(Json(maneuvers)) + ",\"vehicles\":[";
     for (size_t i = 0; i < vehicles.size(); ++i) {
         const Series& v = vehicles[i];
         // Pedestrians default to 0.5 m x 0.5 m (a disc of 0.25 m radius in the viewer).
         const std::pair<double, double> fallback = v.kind == "pedestrian" ? std::pair{0.5, 0.5} : std::pair{4.5, 1.8};
         const auto sz = sizes.count(v.name) ? sizes[v.name] : fallback;
         data += (i ? ",{" : "{");
-        data += "\"name\":" + Json(v.name).dump() + ",\"kind\":" + Json(v.kind).dump() + ",\"length\":" + Json(sz.first).dump() +
-                ",\"width\":" + Json(sz.second).dump() + ",\"first\":" + std::to_string(v.first);
+        data += "\"name\":" + json_text(Json(v.name)) + ",\"kind\":" + json_text(Json(v.kind)) + ",\"length\":" +
+                json_text(Json(sz.first)) + ",\"width\":" + json_text(Json(sz.second)) + ",\"first\":" + std::to_string(v.first);
         const std::pair<const char*, const std::vector<std::string>*> cols[] = {
             {"x", &v.x}, {"y", &v.y}, {"yaw", &v.yaw}, {"speed", &v.speed}, {"accel", &v.accel}, {"s", &v.s}, {"d", &v.d}};
         for (const auto& [key, col] : cols) {
@@ -243,7 +260,7 @@ std::string view_report(const std::string& run_dir, std::string& error) {
     std::vector<std::string> node_paths, node_statuses, path_statuses;
     std::map<std::string, int> node_idx, status_idx, path_status_idx;
     std::map<std::string, std::vector<std::string>> keyed;
-    if (read(dir / "decisions.jsonl", decisions_text)) {
+    if (road::read_file((dir / "decisions.jsonl").string(), decisions_text)) {
         data += "[";
         std::istringstream dl(decisions_text);
         bool first = true;
@@ -260,8 +277,8 @@ std::string view_report(const std::string& run_dir, std::string& error) {
                 Json packed = Json::array();
                 for (const auto& nd : d["nodes"]) {
                     if (!nd.is_object()) continue;
-                    packed.push_back({index_of(node_paths, node_idx, nd.value("node", "")),
-                                      index_of(node_statuses, status_idx, nd.value("status", ""))});
+                    packed.push_back({index_of(node_paths, node_idx, text_of(nd, "node")),
+                                      index_of(node_statuses, status_idx, text_of(nd, "status"))});
                 }
                 d["nodes"] = std::move(packed);
             }
@@ -284,21 +301,21 @@ std::string view_report(const std::string& run_dir, std::string& error) {
                 Json flat = Json::array();
                 for (const auto& p : d["paths"]) {
                     if (!p.is_object() || !p.contains("xy") || !p["xy"].is_array() || p["xy"].size() != 12) continue;
-                    flat.push_back(index_of(path_statuses, path_status_idx, p.value("status", "")));
+                    flat.push_back(index_of(path_statuses, path_status_idx, text_of(p, "status")));
                     for (const auto& c : p["xy"]) flat.push_back(c.is_number() ? std::round(c.get<double>() * 10) / 10 : 0.0);
                 }
                 d["paths"] = std::move(flat);
             }
-            data += (first ? "" : ",") + d.dump();
+            data += (first ? "" : ",") + json_text(d);
             first = false;
         }
         data += "]";
     } else {
         data += "null";
     }
-    data += ",\"node_paths\":" + Json(node_paths).dump() + ",\"node_statuses\":" + Json(node_statuses).dump() +
-            ",\"path_statuses\":" + Json(path_statuses).dump();
-    for (const char* field : {"rejected", "cost", "start"}) data += ",\"" + std::string(field) + "_keys\":" + Json(keyed[field]).dump();
+    data += ",\"node_paths\":" + json_text(Json(node_paths)) + ",\"node_statuses\":" + json_text(Json(node_statuses)) +
+            ",\"path_statuses\":" + json_text(Json(path_statuses));
+    for (const char* field : {"rejected", "cost", "start"}) data += ",\"" + std::string(field) + "_keys\":" + json_text(Json(keyed[field]));
     data += "}";
     // Inside <script>, "</script>" or "<!--" in a string would end or confuse the element: '<'
     // is written as its JSON escape, which JSON.parse reads back unchanged (outside strings

@@ -160,3 +160,20 @@ write("sweep_results", "rows_5000", header + "".join(f"{k},{k % 50},{k // 50},{k
       + "\0" + json.dumps({"format": "sdv-sweep/1", "variants": 5000}))
 write("sweep_results", "long_cell_100k", header + "0,1,2,true," + "e" * 100000 + "\n\0{}")
 write("sweep_results", "summary_depth_20000", header + "0,1,2,true,\n\0" + "[" * 20000 + "]" * 20000)
+
+# Run directories (trajectories.csv, summary.json, road.json, decisions.jsonl, recorded.csv):
+# many rows and vehicles, long cells, deep JSON, a tick far beyond any run.
+traj = "time,tick,vehicle,kind,x,y,yaw,speed,accel,s,d,lane,maneuver\n"
+summary = json.dumps({"scenario": "deep", "ticks": 3000, "passed": True})
+rows = "".join(f"{k // 100 / 30:.4f},{k // 100},v{k % 100},sdv,{k * 0.1:.4f},0.0000,0.0000,10.0000,0.0000,{k * 0.1:.4f},0.0000,a.1,keep\n"
+               for k in range(3000))
+write("run_dir", "rows_3000_vehicles_100", traj + rows + "\0" + summary)
+write("run_dir", "long_name_100k", traj + "0.0000,0," + "v" * 100000 + ",sdv,0,0,0,0,0,0,0,a.1,keep\n\0" + summary)
+write("run_dir", "tick_far_beyond_rows", traj + "0.0000,99999999,v,sdv,0,0,0,0,0,0,0,a.1,keep\n\0" + summary)
+write("run_dir", "summary_depth_20000", traj + "0.0000,0,v,sdv,0,0,0,0,0,0,0,a.1,keep\n\0" + "[" * 20000 + "]" * 20000)
+write("run_dir", "road_depth_20000", traj + "0.0000,0,v,sdv,0,0,0,0,0,0,0,a.1,keep\n\0" + summary + "\0"
+      + '{"lanes":' + "[" * 20000 + "]" * 20000 + "}")
+write("run_dir", "decisions_4000", traj + "0.0000,0,v,sdv,0,0,0,0,0,0,0,a.1,keep\n\0" + summary + "\0{}\0"
+      + "".join(json.dumps({"time": k / 10, "vehicle": "v", "nodes": [{"node": f"t/n{k % 7}", "status": "SUCCESS"}],
+                            "rejected": {"collision": k}, "paths": [{"status": "ok", "xy": [k] * 12}]}) + "\n"
+                for k in range(4000)))

@@ -102,3 +102,9 @@ write("cosim_frame", JSON | proto_names("runtime/cosim/sdv_cosim.proto") | cpp_l
 write("sweep_results", JSON | cpp_literals("runtime/io/sweep_report.cpp", "runtime/campaign/sweep.cpp")
       | {"\n", "\x00", ",", "\"\"", "variant,", "passed", "failed", "error"},
       "sweep directories: results.csv columns, summary.json keys, CSV and JSON syntax")
+write("run_dir", JSON | cpp_literals("runtime/io/view.cpp", "runtime/io/plot.cpp", "runtime/io/recorder.cpp")
+      | {"\n", "\x00", ",", "time,tick,vehicle,kind,x,y,yaw,speed,accel,s,d,lane,maneuver\n", "vehicle,t,x,y,heading,speed\n",
+         "sdv", "ego", "pedestrian", "trajectory", "lanes", "left", "right", "centre", "walkways", "crosswalks",
+         "metrics", "vehicles", "length", "width", "nodes", "node", "status", "paths", "xy", "rejected", "cost", "start",
+         "0.0000", "-0.0000", "1e308", "nan", "inf"},
+      "run directories: trajectories.csv and recorded.csv columns, summary.json, road.json and decisions.jsonl keys")

@@ -7,6 +7,11 @@ size the fuzzers mutate quickly.
   seed_tools.py truncate-record RECORD N OUT   the header and the first N frames of a record
   seed_tools.py cosim-frames OUT_DIR           hand-made JSON connections: a session, each error
   seed_tools.py sweep-seed SWEEP_DIR OUT       results.csv, a NUL, summary.json (sweep_results)
+  seed_tools.py run-seed RUN_DIR TICKS OUT     a run directory's files, NUL between them (run_dir):
+                                               trajectories.csv, summary.json, road.json,
+                                               decisions.jsonl, recorded.csv, up to the last one
+                                               there; the rows and decisions of the first TICKS
+                                               ticks only
   seed_tools.py crop-lanelet2 MAP N OUT_DIR    small maps cut from a Lanelet2 map: N lanelets each,
                                                with their ways, nodes and regulatory elements
 """
@@ -83,6 +88,34 @@ def sweep_seed(sweep_dir, out):
     pathlib.Path(out).write_bytes(data)
 
 
+RUN_FILES = ["trajectories.csv", "summary.json", "road.json", "decisions.jsonl", "recorded.csv"]
+
+
+def run_seed(run_dir, ticks, out):
+    d = pathlib.Path(run_dir)
+    ticks = int(ticks)
+    parts = []
+    for name in RUN_FILES:
+        f = d / name
+        if not f.exists():
+            parts.append(None)
+            continue
+        data = f.read_bytes()
+        if name == "trajectories.csv":
+            lines = data.splitlines(keepends=True)
+            data = b"".join(lines[:1] + [l for l in lines[1:] if int(l.split(b",")[1]) < ticks])
+            last_time = float(lines[1].split(b",")[0]) if len(lines) > 1 else 0.0
+            for l in lines[1:]:
+                if int(l.split(b",")[1]) < ticks:
+                    last_time = float(l.split(b",")[0])
+        elif name == "decisions.jsonl":
+            data = b"".join(l for l in data.splitlines(keepends=True) if json.loads(l)["time"] <= last_time)
+        parts.append(data)
+    while parts and parts[-1] is None:
+        parts.pop()
+    pathlib.Path(out).write_bytes(b"\0".join(p or b"" for p in parts))
+
+
 def crop_lanelet2(path, n, out_dir):
     n = int(n)
     root = ET.parse(path).getroot()
@@ -135,4 +168,4 @@ def crop_lanelet2(path, n, out_dir):
 if __name__ == "__main__":
     cmd, args = sys.argv[1], sys.argv[2:]
     {"record-to-wire": record_to_wire, "truncate-record": truncate_record, "cosim-frames": cosim_frames,
-     "sweep-seed": sweep_seed, "crop-lanelet2": crop_lanelet2}[cmd](*args)
+     "sweep-seed": sweep_seed, "run-seed": run_seed, "crop-lanelet2": crop_lanelet2}[cmd](*args)

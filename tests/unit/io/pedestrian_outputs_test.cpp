@@ -16,8 +16,10 @@
 #include "runtime/io/recorder.h"
 #include "runtime/io/view.h"
 #include "tests/unit/io/compile_text.h"
+#include "tests/unit/io/temp_dir.h"
 
 using namespace sdv;
+using test::TempDir;
 
 namespace {
 
@@ -50,16 +52,6 @@ io::Recording run(const std::string& text) {
 
 double x_of(const nlohmann::json& pt) { return pt.at(0).get<double>(); }
 double y_of(const nlohmann::json& pt) { return pt.at(1).get<double>(); }
-
-struct TempDir {
-    std::filesystem::path path;
-    explicit TempDir(const std::string& name) : path(std::filesystem::temp_directory_path() / name) {
-        std::filesystem::remove_all(path);
-        std::filesystem::create_directories(path);
-    }
-    ~TempDir() { std::filesystem::remove_all(path); }
-    void write(const std::string& name, const std::string& text) const { std::ofstream(path / name, std::ios::binary) << text; }
-};
 
 }  // namespace
 
