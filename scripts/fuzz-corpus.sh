@@ -106,18 +106,19 @@ else
         echo "fuzz-corpus: the sweep of examples/sweeps/cut_in_table.sdv wrote no results.csv:" >&2
         tail -3 "$tmp/sweep.log" >&2
     fi
-    # Run directories (sdv view, sdv plot): a traced platoon, pedestrians at a crossing with
+    # Run directories (sdv view, sdv plot): a traced cut-in, pedestrians at a crossing with
     # walkways and crosswalks in road.json, and a replay of recorded traffic (recorded.csv);
-    # their first 3 s, so that the seeds stay small.
-    "$sdv" run "$root/examples/platoon.sdv" --trace -o "$tmp/run_platoon" >/dev/null 2>&1 || true
+    # their first second, so that the seeds stay small.
+    "$sdv" run "$root/examples/cut_in.sdv" --trace -o "$tmp/run_cut_in" >/dev/null 2>&1 || true
     "$sdv" run "$root/examples/pedestrians/cpna.sdv" --trace -o "$tmp/run_cpna" >/dev/null 2>&1 || true
     "$sdv" replay "$shared/recorded/commonroad/USA_Peach-4_8_T-1.xml" --sdv all -o "$tmp/replay" >/dev/null 2>&1 || true
+    pedestrians=("$tmp"/run_cpna/*)  # one directory per scenario of the file
     replays=("$tmp"/replay/runs/v*)
-    for d in "$tmp/run_platoon" "$tmp/run_cpna" "${replays[@]:0:2}"; do
+    for d in "$tmp/run_cut_in" "${pedestrians[@]:0:1}" "${replays[@]:0:2}"; do
         [ -f "$d/trajectories.csv" ] || continue
-        python3 "$root/tests/fuzz/seed_tools.py" run-seed "$d" 90 "$out/run_dir/$(basename "$d")_3s"
+        python3 "$root/tests/fuzz/seed_tools.py" run-seed "$d" 30 "$out/run_dir/$(basename "$d")_1s"
     done
-    compgen -G "$out/run_dir/*_3s" >/dev/null || echo "fuzz-corpus: no run directory seeds (sdv run and replay failed)" >&2
+    compgen -G "$out/run_dir/*_1s" >/dev/null || echo "fuzz-corpus: no run directory seeds (sdv run and replay failed)" >&2
 fi
 for t in "${targets[@]}"; do
     printf '%-14s %5d seeds, %8d bytes\n' "$t" "$(find "$out/$t" -type f | wc -l)" "$(cat "$out/$t"/* | wc -c)"

@@ -35,7 +35,7 @@ std::string parse_trajectory_row(std::string_view line, TrajectoryRow& row) {
     // A shown text of a column: at most 40 bytes of it.
     auto shown = [](std::string_view t) { return std::string(t.substr(0, 40)) + (t.size() > 40 ? "..." : ""); };
     long tick = 0;
-    bool whole = !f[1].empty() && f[1].size() <= 7;
+    bool whole = !f[1].empty() && f[1].size() <= 6;
     for (char c : f[1]) whole = whole && c >= '0' && c <= '9';
     if (whole) tick = std::stol(std::string(f[1]));
     if (!whole || tick > kMaxReportTicks) {

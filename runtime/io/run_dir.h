@@ -11,9 +11,10 @@ namespace sdv::io {
 // The header of trajectories.csv (runtime/io/recorder.cpp writes it).
 inline constexpr std::string_view kTrajectoriesHeader = "time,tick,vehicle,kind,x,y,yaw,speed,accel,s,d,lane,maneuver";
 
-// The most ticks a report shows: 1,000,000 (9 h 15 min at 30 Hz). The viewer keeps a time per
-// tick, so a run directory with a higher tick is refused rather than read into gigabytes.
-inline constexpr long kMaxReportTicks = 1'000'000;
+// The highest tick a report shows: 100,000 (55 min at 30 Hz). The viewer's data holds a time per
+// tick up to the last, so a higher tick is refused: one row at tick 99,999,999 (166 bytes) asked
+// for 2.2 GB, and at 1,000,000 the page's data is 5 MB of it, whatever the rows.
+inline constexpr long kMaxReportTicks = 100'000;
 
 // One row of trajectories.csv, its columns as the file's own text.
 struct TrajectoryRow {

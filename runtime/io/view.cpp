@@ -322,9 +322,12 @@ std::string view_report(const std::string& run_dir, std::string& error) {
     // JSON never contains '<').
     std::string safe;
     safe.reserve(data.size());
-    for (char c : data) {
-        if (c == '<') safe += "\\u003c";
-        else safe += c;
+    for (size_t at = 0;;) {
+        const size_t lt = data.find('<', at);
+        safe.append(data, at, lt == std::string::npos ? std::string::npos : lt - at);
+        if (lt == std::string::npos) break;
+        safe += "\\u003c";
+        at = lt + 1;
     }
     std::string html(viewer_template());
     const std::string marker = "__SDV_DATA__";

@@ -173,7 +173,7 @@ write("run_dir", "tick_far_beyond_rows", traj + "0.0000,99999999,v,sdv,0,0,0,0,0
 write("run_dir", "summary_depth_20000", traj + "0.0000,0,v,sdv,0,0,0,0,0,0,0,a.1,keep\n\0" + "[" * 20000 + "]" * 20000)
 write("run_dir", "road_depth_20000", traj + "0.0000,0,v,sdv,0,0,0,0,0,0,0,a.1,keep\n\0" + summary + "\0"
       + '{"lanes":' + "[" * 20000 + "]" * 20000 + "}")
-write("run_dir", "decisions_4000", traj + "0.0000,0,v,sdv,0,0,0,0,0,0,0,a.1,keep\n\0" + summary + "\0{}\0"
+write("run_dir", "decisions_1000", traj + "0.0000,0,v,sdv,0,0,0,0,0,0,0,a.1,keep\n\0" + summary + "\0{}\0"
       + "".join(json.dumps({"time": k / 10, "vehicle": "v", "nodes": [{"node": f"t/n{k % 7}", "status": "SUCCESS"}],
                             "rejected": {"collision": k}, "paths": [{"status": "ok", "xy": [k] * 12}]}) + "\n"
-                for k in range(4000)))
+                for k in range(1000)))

@@ -232,7 +232,7 @@ TEST_CASE("ticks: from 0 to the limit, each agent at every tick from its first t
     r = reports(dir);
     CHECK_MESSAGE(r.view_error.find("trajectories.csv:3: agent \"a\" at tick 0 after tick 0") != std::string::npos, r.view_error);
 
-    // The last tick a report shows, and the first it refuses (a 100-byte file asked for 3 GB).
+    // The last tick a report shows, and the first it refuses (a 166-byte file asked for 2.2 GB).
     dir.write("trajectories.csv", header + row(io::kMaxReportTicks, "a"));
     r = reports(dir);
     REQUIRE_MESSAGE(r.view_error.empty(), r.view_error);
@@ -246,7 +246,7 @@ TEST_CASE("ticks: from 0 to the limit, each agent at every tick from its first t
         CAPTURE(tick);
         CHECK(r.html.empty());
         CHECK(r.svg.empty());
-        const std::string what = "trajectories.csv:2: tick '" + tick + "' is not a whole number from 0 to 1000000";
+        const std::string what = "trajectories.csv:2: tick '" + tick + "' is not a whole number from 0 to 100000";
         CHECK_MESSAGE(r.view_error.find(what) != std::string::npos, r.view_error);
         CHECK_MESSAGE(r.plot_error.find(what) != std::string::npos, r.plot_error);
     }
