@@ -303,7 +303,10 @@ TEST_CASE("JSON fields of the wrong type are left aside, never thrown on") {
         {R"({"metrics":{"vehicles":{"vehicle":"a"}}})", R"({"lanes":[],"walkways":[5,{"left":[[0,0],[1,1]],"right":"x"}],"crosswalks":{"a":1}})"},
         {R"({"metrics":[]})", R"({"lanes":[{"left":[[0,0],[1e308,1e308]]}]})"},
     };
-    for (const auto& [summary, road] : summaries_roads) {
+    for (const auto& summary_road : summaries_roads) {
+        // Named copies: clang 14 cannot capture structured bindings in CAPTURE's lambda.
+        const std::string& summary = summary_road.first;
+        const std::string& road = summary_road.second;
         CAPTURE(summary);
         CAPTURE(road);
         dir.write("summary.json", summary);
