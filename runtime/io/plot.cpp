@@ -12,6 +12,7 @@
 
 #include "runtime/io/run_dir.h"
 #include "runtime/io/text.h"
+#include "runtime/ir/ir_io.h"
 #include "runtime/road/reader_text.h"
 
 namespace sdv::io {
@@ -35,6 +36,10 @@ std::string plot_run(const std::string& dir, std::string& error) {
     std::string road_text, csv;
     if (!road::read_file(dir + "/road.json", road_text) || !road::read_file(dir + "/trajectories.csv", csv)) {
         error = "'" + dir + "' is not a run directory (needs road.json and trajectories.csv; run it with sdv run -o)";
+        return "";
+    }
+    if (ir::json_depth(road_text) > kMaxRunJsonDepth) {
+        error = dir + "/road.json: JSON nested more than " + std::to_string(kMaxRunJsonDepth) + " levels deep";
         return "";
     }
     const auto road = nlohmann::json::parse(road_text, nullptr, false);

@@ -16,6 +16,11 @@ inline constexpr std::string_view kTrajectoriesHeader = "time,tick,vehicle,kind,
 // for 2.2 GB, and at 1,000,000 the page's data is 5 MB of it, whatever the rows.
 inline constexpr long kMaxReportTicks = 100'000;
 
+// The deepest JSON nesting of summary.json, road.json and a line of decisions.jsonl (sdv run
+// writes at most 5 levels): deeper text is refused before it is parsed, as writing it into the
+// report would recurse once per level (ir::json_depth).
+inline constexpr int kMaxRunJsonDepth = 64;
+
 // One row of trajectories.csv, its columns as the file's own text.
 struct TrajectoryRow {
     std::string_view time, vehicle, kind, x, y, yaw, speed, accel, s, d, lane, maneuver;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "runtime/io/text.h"
+#include "runtime/ir/ir_io.h"
 
 namespace sdv::io {
 namespace {
@@ -256,7 +257,12 @@ std::string report(const std::string& dir_text, std::string& error) {
         return "";
     }
 
-    // summary.json
+    // summary.json (sdv sweep writes 3 levels; deeper text would make writing it into the report
+    // recurse once per level)
+    if (ir::json_depth(summary_text) > 64) {
+        error = summary_file + ": JSON nested more than 64 levels deep";
+        return "";
+    }
     Json summary;
     try {
         summary = Json::parse(summary_text);

@@ -14,6 +14,7 @@
 
 #include "runtime/io/run_dir.h"
 #include "runtime/io/text.h"
+#include "runtime/ir/ir_io.h"
 #include "runtime/road/reader_text.h"
 
 namespace sdv::io {
@@ -80,6 +81,12 @@ std::string view_report(const std::string& run_dir, std::string& error) {
         error = "'" + run_dir + "' is not a run directory (it needs summary.json and trajectories.csv from `sdv run -o`)";
         return "";
     }
+    auto too_deep = [&](const char* name, const std::string& text) {
+        if (ir::json_depth(text) <= kMaxRunJsonDepth) return false;
+        error = (dir / name).string() + ": JSON nested more than " + std::to_string(kMaxRunJsonDepth) + " levels deep";
+        return true;
+    };
+    if (too_deep("summary.json", summary_text)) return "";
     Json summary = Json::parse(summary_text, nullptr, false);
     if (summary.is_discarded() || !summary.is_object()) {
         error = (dir / "summary.json").string() + ": not valid JSON";
@@ -87,6 +94,7 @@ std::string view_report(const std::string& run_dir, std::string& error) {
     }
     Json road = Json::object();
     if (road::read_file((dir / "road.json").string(), road_text)) {
+        if (too_deep("road.json", road_text)) return "";
         road = Json::parse(road_text, nullptr, false);
         if (road.is_discarded()) {
             error = (dir / "road.json").string() + ": not valid JSON";
@@ -268,6 +276,11 @@ std::string view_report(const std::string& run_dir, std::string& error) {
         while (std::getline(dl, line)) {
             ++n;
             if (line.empty()) continue;
+            if (ir::json_depth(line) > kMaxRunJsonDepth) {
+                error = (dir / "decisions.jsonl").string() + ":" + std::to_string(n) + ": JSON nested more than " +
+                        std::to_string(kMaxRunJsonDepth) + " levels deep";
+                return "";
+            }
             Json d = Json::parse(line, nullptr, false);
             if (d.is_discarded() || !d.is_object()) {
                 error = (dir / "decisions.jsonl").string() + ":" + std::to_string(n) + ": not valid JSON";

@@ -774,8 +774,20 @@ namespace {
 
 constexpr int kMaxIrDepth = 64;
 
-// The deepest nesting of arrays and objects in JSON text (brackets inside strings skipped), in
-// one pass.
+}  // namespace
+
+std::string write_ir(const Program& program) {
+    const std::string body = canonical(program_json(program));
+    std::string out = "{\n \"format\": \"sdvir\",\n \"version\": " + std::to_string(kFormatVersion) +
+                      ",\n \"compiler\": " + Json(program.compiler_version).dump() + ",\n \"hash\": \"" +
+                      hex(fnv1a(body)) + "\",\n \"program\": ";
+    out += body;
+    out += "\n}\n";
+    return out;
+}
+
+std::string program_hash(const Program& program) { return hex(fnv1a(canonical(program_json(program)))); }
+
 int json_depth(std::string_view text) {
     int depth = 0, deepest = 0;
     bool in_string = false;
@@ -794,20 +806,6 @@ int json_depth(std::string_view text) {
     }
     return deepest;
 }
-
-}  // namespace
-
-std::string write_ir(const Program& program) {
-    const std::string body = canonical(program_json(program));
-    std::string out = "{\n \"format\": \"sdvir\",\n \"version\": " + std::to_string(kFormatVersion) +
-                      ",\n \"compiler\": " + Json(program.compiler_version).dump() + ",\n \"hash\": \"" +
-                      hex(fnv1a(body)) + "\",\n \"program\": ";
-    out += body;
-    out += "\n}\n";
-    return out;
-}
-
-std::string program_hash(const Program& program) { return hex(fnv1a(canonical(program_json(program)))); }
 
 ReadResult read_ir(std::string_view text) {
     ReadResult r;

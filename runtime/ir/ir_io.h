@@ -25,4 +25,9 @@ struct ReadResult {
 
 ReadResult read_ir(std::string_view text);
 
+// The deepest nesting of arrays and objects in JSON text (brackets inside strings skipped), in
+// one pass. Readers of JSON refuse text deeper than they need before parsing it: nlohmann's
+// parser is iterative, but writing a value back (dump) recurses once per level.
+int json_depth(std::string_view text);
+
 }  // namespace sdv::ir

@@ -330,6 +330,34 @@ TEST_CASE("JSON fields of the wrong type are left aside, never thrown on") {
     }
 }
 
+TEST_CASE("JSON nested deeper than 64 levels is refused before it is parsed (writing it back recurses per level)") {
+    TempDir dir("sdv_run_dir_test_depth");
+    const std::string header = std::string(io::kTrajectoriesHeader) + "\n";
+    dir.write("trajectories.csv", header + "0.0000,0,a,sdv,1.0000,2.0000,0.0000,3.0000,0.0000,1.0000,0.0000,l,m\n");
+    // {"lanes":[],"x":[[...]]} with `levels` levels in all ("[" inside a string does not count).
+    auto nested = [](int levels) {
+        return R"({"lanes":[],"s":"[[[[","x":)" + std::string(static_cast<size_t>(levels - 1), '[') +
+               std::string(static_cast<size_t>(levels - 1), ']') + "}";
+    };
+    for (const char* file : {"summary.json", "road.json", "decisions.jsonl"}) {
+        CAPTURE(file);
+        dir.write("summary.json", "{}");
+        dir.write("road.json", R"({"lanes":[]})");
+        dir.write("decisions.jsonl", "{}\n");
+        dir.write(file, nested(64));
+        Reports r = reports(dir);
+        CHECK_MESSAGE(r.view_error.empty(), r.view_error);
+        CHECK_MESSAGE(r.plot_error.empty(), r.plot_error);
+        dir.write(file, nested(65));
+        r = reports(dir);
+        CHECK(r.html.empty());
+        const std::string what = std::string(file) + (std::string(file) == "decisions.jsonl" ? ":1" : "") +
+                                 ": JSON nested more than 64 levels deep";
+        CHECK_MESSAGE(r.view_error.find(what) != std::string::npos, r.view_error);
+        if (std::string(file) == "road.json") CHECK_MESSAGE(r.plot_error.find(what) != std::string::npos, r.plot_error);
+    }
+}
+
 TEST_CASE("recorded.csv: finite numbers or a located error") {
     TempDir dir("sdv_run_dir_test_recorded");
     const std::string header = std::string(io::kTrajectoriesHeader) + "\n";
