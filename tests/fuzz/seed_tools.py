@@ -95,6 +95,7 @@ def run_seed(run_dir, ticks, out):
     d = pathlib.Path(run_dir)
     ticks = int(ticks)
     parts = []
+    last_time = 0.0  # of the rows kept: decisions after it are left out
     for name in RUN_FILES:
         f = d / name
         if not f.exists():
@@ -103,11 +104,9 @@ def run_seed(run_dir, ticks, out):
         data = f.read_bytes()
         if name == "trajectories.csv":
             lines = data.splitlines(keepends=True)
-            data = b"".join(lines[:1] + [l for l in lines[1:] if int(l.split(b",")[1]) < ticks])
-            last_time = float(lines[1].split(b",")[0]) if len(lines) > 1 else 0.0
-            for l in lines[1:]:
-                if int(l.split(b",")[1]) < ticks:
-                    last_time = float(l.split(b",")[0])
+            kept = [l for l in lines[1:] if int(l.split(b",")[1]) < ticks]
+            last_time = max((float(l.split(b",")[0]) for l in kept), default=0.0)
+            data = b"".join(lines[:1] + kept)
         elif name == "decisions.jsonl":
             data = b"".join(l for l in data.splitlines(keepends=True) if json.loads(l)["time"] <= last_time)
         parts.append(data)

@@ -39,7 +39,7 @@ void check_view(const std::string& html) {
     const std::string_view data(html.data() + before.size(), html.size() - before.size() - after.size());
     // '<' only as its JSON escape: "</script>" or "<!--" in the data would end the element early.
     if (data.find('<') != std::string_view::npos) fuzz::fail(kTarget, "the report's data contains '<'");
-    // Validated without building it (a report of a million ticks is megabytes of JSON).
+    // Validated without building it (at the tick limit the data is half a megabyte of JSON).
     if (!nlohmann::json::accept(data)) fuzz::fail(kTarget, "the report's data is not JSON");
     if (data.rfind(R"({"format":"sdv-view/1",)", 0) != 0) fuzz::fail(kTarget, "the report's data is not an object of format sdv-view/1");
 }
