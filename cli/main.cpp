@@ -29,6 +29,7 @@
 #include "runtime/io/outputs.h"
 #include "runtime/io/plot.h"
 #include "runtime/io/reuse.h"
+#include "runtime/io/run_diff.h"
 #include "runtime/io/view.h"
 #include "runtime/sim/simulation.h"
 
@@ -462,19 +463,19 @@ std::optional<ir::Program> load_program(const std::string& file, const Common& c
 
 int cmd_diff(const std::string& a, const std::string& b, bool runs, const Common& c) {
     if (runs) {
-        const diff::RunDiff d = diff::diff_runs(a, b);
+        const io::RunDiff d = io::diff_runs(a, b);
         if (!d.error.empty()) {
             std::cerr << "sdv: error: " << d.error << "\n";
             return kFailure;
         }
-        std::cout << (c.format == "json" ? diff::to_json(d).dump(2) + "\n" : diff::render_text(d));
+        std::cout << (c.format == "json" ? io::render_json(d) : io::render_text(d));
         return d.equal ? kOk : kFailure;
     }
     auto pa = load_program(a, c);
     auto pb = load_program(b, c);
     if (!pa || !pb) return kFailure;
     const auto changes = diff::diff_programs(*pa, *pb);
-    std::cout << (c.format == "json" ? diff::to_json(changes).dump(2) + "\n" : diff::render_text(changes));
+    std::cout << (c.format == "json" ? diff::render_json(changes) : diff::render_text(changes));
     return changes.empty() ? kOk : kFailure;
 }
 

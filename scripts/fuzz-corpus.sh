@@ -18,7 +18,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=$(cd "$1" && pwd)
 out=$2
 shared=$root/../shared/data
-targets=(sdv_frontend ir_reader btree gss_scenario lanelet2 cosim_frame sweep_results recording run_dir)
+targets=(sdv_frontend ir_reader btree gss_scenario lanelet2 cosim_frame sweep_results recording run_dir run_diff)
 rm -rf "$out"
 for t in "${targets[@]}"; do mkdir -p "$out/$t"; done
 out=$(cd "$out" && pwd)
@@ -119,6 +119,16 @@ else
         python3 "$root/tests/fuzz/seed_tools.py" run-seed "$d" 30 "$out/run_dir/$(basename "$d")_1s"
     done
     compgen -G "$out/run_dir/*_1s" >/dev/null || echo "fuzz-corpus: no run directory seeds (sdv run and replay failed)" >&2
+    # Pairs of run directories (sdv diff --runs): the traced cut-in against itself and against
+    # the same scenario with the cutting-in driver 1 m/s faster (they part at tick 21); 2 s each.
+    sed 's/tree cut_in_driver(speed = 18 m\/s)/tree cut_in_driver(speed = 19 m\/s)/' "$root/examples/cut_in.sdv" >"$tmp/cut_in_faster.sdv"
+    "$sdv" run "$tmp/cut_in_faster.sdv" --trace -o "$tmp/run_cut_in_faster" >/dev/null 2>&1 || true
+    if [ -f "$tmp/run_cut_in/trajectories.csv" ] && [ -f "$tmp/run_cut_in_faster/trajectories.csv" ]; then
+        python3 "$root/tests/fuzz/seed_tools.py" diff-seed "$tmp/run_cut_in" "$tmp/run_cut_in" 60 "$out/run_diff/cut_in_itself_2s"
+        python3 "$root/tests/fuzz/seed_tools.py" diff-seed "$tmp/run_cut_in" "$tmp/run_cut_in_faster" 60 "$out/run_diff/cut_in_faster_2s"
+    else
+        echo "fuzz-corpus: no run diff seeds (sdv run failed)" >&2
+    fi
 fi
 for t in "${targets[@]}"; do
     printf '%-14s %5d seeds, %8d bytes\n' "$t" "$(find "$out/$t" -type f | wc -l)" "$(cat "$out/$t"/* | wc -c)"

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -242,110 +241,6 @@ std::vector<Change> diff_programs(const ir::Program& a, const ir::Program& b) {
     return out;
 }
 
-namespace {
-
-struct Row {
-    double time = 0;
-    int tick = 0;
-    std::string vehicle, maneuver;
-    double x = 0, y = 0, speed = 0;
-};
-
-bool read_rows(const std::string& path, std::vector<Row>& rows) {
-    std::ifstream in(path);
-    if (!in) return false;
-    std::string line;
-    std::getline(in, line);  // header
-    while (std::getline(in, line)) {
-        std::vector<std::string> f;
-        std::stringstream ss(line);
-        std::string cell;
-        while (std::getline(ss, cell, ',')) f.push_back(cell);
-        if (f.size() < 12) continue;
-        Row r;
-        r.time = std::atof(f[0].c_str());
-        r.tick = std::atoi(f[1].c_str());
-        r.vehicle = f[2];
-        r.x = std::atof(f[4].c_str());
-        r.y = std::atof(f[5].c_str());
-        r.speed = std::atof(f[7].c_str());
-        r.maneuver = f.size() > 12 ? f[12] : "";
-        rows.push_back(r);
-    }
-    return true;
-}
-
-}  // namespace
-
-RunDiff diff_runs(const std::string& dir_a, const std::string& dir_b, double tol) {
-    RunDiff d;
-    std::vector<Row> a, b;
-    if (!read_rows(dir_a + "/trajectories.csv", a)) {
-        d.error = "cannot read " + dir_a + "/trajectories.csv";
-        return d;
-    }
-    if (!read_rows(dir_b + "/trajectories.csv", b)) {
-        d.error = "cannot read " + dir_b + "/trajectories.csv";
-        return d;
-    }
-    std::map<std::pair<int, std::string>, const Row*> mb;
-    for (const auto& r : b) mb[{r.tick, r.vehicle}] = &r;
-    for (const auto& r : a) {
-        auto it = mb.find({r.tick, r.vehicle});
-        const bool missing = it == mb.end();
-        const Row* o = missing ? nullptr : it->second;
-        const double dp = missing ? INFINITY : std::hypot(o->x - r.x, o->y - r.y);
-        const bool differ = missing || dp > tol || std::fabs(o->speed - r.speed) > tol;
-        if (!differ) continue;
-        if (d.first_tick < 0) {
-            d.equal = false;
-            d.first_tick = r.tick;
-            d.first_time = r.time;
-            d.detail = missing ? r.vehicle + " is missing from the second run"
-                               : r.vehicle + ": position differs by " + num(dp) + " m, speed " + num(r.speed) + " → " + num(o->speed) + " m/s";
-        }
-        if (r.tick == d.first_tick) d.vehicles.push_back(r.vehicle);
-        else break;
-    }
-    if (d.first_tick < 0 && a.size() != b.size()) {
-        d.equal = false;
-        d.detail = "the runs have different lengths";
-    }
-    // Decision traces: the first planning cycle whose maneuver or winner differs.
-    std::ifstream ta(dir_a + "/decisions.jsonl"), tb(dir_b + "/decisions.jsonl");
-    if (ta && tb) {
-        d.has_decisions = true;
-        std::map<std::pair<double, std::string>, nlohmann::json> mdb;
-        std::string line;
-        while (std::getline(tb, line)) {
-            auto j = nlohmann::json::parse(line, nullptr, false);
-            if (j.is_object() && j.contains("time") && j.contains("vehicle")) mdb[{j["time"].get<double>(), j["vehicle"].get<std::string>()}] = j;
-        }
-        while (std::getline(ta, line)) {
-            auto j = nlohmann::json::parse(line, nullptr, false);
-            if (!j.is_object() || !j.contains("time") || !j.contains("vehicle")) continue;
-            auto it = mdb.find({j["time"].get<double>(), j["vehicle"].get<std::string>()});
-            if (it == mdb.end()) continue;
-            const auto& k = it->second;
-            std::string what;
-            if (j["maneuver"] != k["maneuver"]) {
-                what = "maneuver " + j["maneuver"].get<std::string>() + " → " + k["maneuver"].get<std::string>();
-            } else if (j["winner"] != k["winner"] || j["cost"] != k["cost"]) {
-                what = "maneuver " + j["maneuver"].get<std::string>() + ": winning candidate " + j["winner"].dump() + " → " +
-                       k["winner"].dump() + " (cost " + j["cost"]["total"].dump() + " → " + k["cost"]["total"].dump() + ")";
-            }
-            if (!what.empty()) {
-                d.equal = false;
-                d.decision_time = j["time"].get<double>();
-                d.decision_vehicle = j["vehicle"].get<std::string>();
-                d.decision_detail = what;
-                break;
-            }
-        }
-    }
-    return d;
-}
-
 std::string render_text(const std::vector<Change>& changes) {
     if (changes.empty()) return "no difference\n";
     std::string out;
@@ -362,40 +257,8 @@ nlohmann::ordered_json to_json(const std::vector<Change>& changes) {
     return j;
 }
 
-std::string render_text(const RunDiff& d) {
-    if (!d.error.empty()) return d.error + "\n";
-    if (d.equal) return "runs are equal\n";
-    std::ostringstream o;
-    if (d.first_tick >= 0) {
-        o << "first divergence at tick " << d.first_tick << " (t = " << num(d.first_time) << " s): ";
-        for (size_t i = 0; i < d.vehicles.size(); ++i) o << (i ? ", " : "") << d.vehicles[i];
-        o << "\n  " << d.detail << "\n";
-    } else if (!d.detail.empty()) {
-        o << d.detail << "\n";
-    }
-    if (d.decision_time >= 0) {
-        o << "first differing decision at t = " << num(d.decision_time) << " s, vehicle " << d.decision_vehicle << ": "
-          << d.decision_detail << "\n";
-    } else if (!d.has_decisions) {
-        o << "(no decision traces to compare: run both with --trace)\n";
-    }
-    return o.str();
-}
-
-nlohmann::ordered_json to_json(const RunDiff& d) {
-    nlohmann::ordered_json j;
-    j["equal"] = d.equal;
-    if (!d.error.empty()) j["error"] = d.error;
-    if (d.first_tick >= 0) {
-        j["first_tick"] = d.first_tick;
-        j["first_time"] = d.first_time;
-        j["vehicles"] = d.vehicles;
-        j["detail"] = d.detail;
-    }
-    if (d.decision_time >= 0) {
-        j["decision"] = {{"time", d.decision_time}, {"vehicle", d.decision_vehicle}, {"detail", d.decision_detail}};
-    }
-    return j;
+std::string render_json(const std::vector<Change>& changes) {
+    return to_json(changes).dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace sdv::diff

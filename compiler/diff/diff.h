@@ -22,24 +22,9 @@ struct Change {
 
 std::vector<Change> diff_programs(const ir::Program& a, const ir::Program& b);
 
-struct RunDiff {
-    bool equal = true;
-    std::string error;  // a run directory could not be read
-    int first_tick = -1;
-    double first_time = 0;
-    std::vector<std::string> vehicles;  // those that differ at first_tick
-    std::string detail;                 // e.g. "v2: x 12.5 → 13.1"
-    // From the decision traces, when both runs have them.
-    bool has_decisions = false;
-    double decision_time = -1;
-    std::string decision_vehicle, decision_detail;
-};
-
-RunDiff diff_runs(const std::string& dir_a, const std::string& dir_b, double tolerance = 1e-3);
-
 std::string render_text(const std::vector<Change>& changes);
 nlohmann::ordered_json to_json(const std::vector<Change>& changes);
-std::string render_text(const RunDiff& d);
-nlohmann::ordered_json to_json(const RunDiff& d);
+// The JSON of `sdv diff --format json` as text.
+std::string render_json(const std::vector<Change>& changes);
 
 }  // namespace sdv::diff

@@ -50,27 +50,18 @@ std::string plot_run(const std::string& dir, std::string& error) {
     std::map<std::string, std::vector<Sample>> paths;  // ordered by vehicle name
     std::map<std::string, bool> pedestrian;            // the `kind` column says so
     std::vector<std::string> order;
-    const std::string csv_name = dir + "/trajectories.csv";
-    std::istringstream tc(csv);
-    std::string line;
-    std::getline(tc, line);
-    if (line.rfind(kTrajectoriesHeader, 0) != 0) {
-        error = csv_name + ":1: unexpected header (expected " + std::string(kTrajectoriesHeader) + ")";
-        return "";
-    }
-    size_t row = 1;
+    TrajectoryReader in(csv, dir + "/trajectories.csv");
     TrajectoryRow r;
-    while (std::getline(tc, line)) {
-        ++row;
-        if (const std::string wrong = parse_trajectory_row(line, r); !wrong.empty()) {
-            error = csv_name + ":" + std::to_string(row) + ": " + wrong;
-            return "";
-        }
+    while (in.next(r)) {
         const std::string name(r.vehicle);
         if (!paths.count(name)) order.push_back(name);
         pedestrian[name] = r.kind == "pedestrian";
         auto number = [](std::string_view t) { return std::strtod(std::string(t).c_str(), nullptr); };
         paths[name].push_back({number(r.time), number(r.x), number(r.y), number(r.speed)});
+    }
+    if (!in.error().empty()) {
+        error = in.error();
+        return "";
     }
     // Extent of the map panel: the vehicles' paths plus a margin (whole maps can be huge).
     double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY, tmax = 1, vmax = 1;

@@ -105,45 +105,22 @@ std::string view_report(const std::string& run_dir, std::string& error) {
     // first to its last (the viewer places an agent's values by tick from its first).
     std::vector<std::string> times;
     std::vector<Series> vehicles;
-    std::vector<long> last_tick;  // per vehicle
-    std::map<std::string, size_t, std::less<>> by_name;
     std::vector<std::string> lanes, maneuvers;
     std::map<std::string, int> lane_idx, man_idx;
-    const std::string csv_name = (dir / "trajectories.csv").string();
-    std::istringstream in(csv);
     std::string line;
-    std::getline(in, line);
-    if (line.rfind(kTrajectoriesHeader, 0) != 0) {
-        error = csv_name + ":1: unexpected header (expected " + std::string(kTrajectoriesHeader) + ")";
-        return "";
-    }
-    size_t row = 1;
+    TrajectoryReader in(csv, (dir / "trajectories.csv").string());
     TrajectoryRow r;
-    while (std::getline(in, line)) {
-        ++row;
-        const std::string wrong = parse_trajectory_row(line, r);
-        if (!wrong.empty()) {
-            error = csv_name + ":" + std::to_string(row) + ": " + wrong;
-            return "";
-        }
+    while (in.next(r)) {
         const auto tick = static_cast<size_t>(r.tick);
         if (tick >= times.size()) times.resize(tick + 1);
         times[tick] = r.time;
-        auto [it, fresh] = by_name.try_emplace(std::string(r.vehicle), vehicles.size());
-        if (fresh) {
+        if (in.agent() == vehicles.size()) {
             vehicles.emplace_back();
             vehicles.back().name = r.vehicle;
             vehicles.back().kind = r.kind;
             vehicles.back().first = r.tick;
-            last_tick.push_back(r.tick);
-        } else if (r.tick != last_tick[it->second] + 1) {
-            error = csv_name + ":" + std::to_string(row) + ": agent " + json_text(Json(std::string(r.vehicle.substr(0, 40)))) +
-                    " at tick " + std::to_string(r.tick) + " after tick " + std::to_string(last_tick[it->second]) +
-                    " (an agent has a row at every tick from its first to its last)";
-            return "";
         }
-        last_tick[it->second] = r.tick;
-        Series& v = vehicles[it->second];
+        Series& v = vehicles[in.agent()];
         v.x.emplace_back(r.x);
         v.y.emplace_back(r.y);
         v.yaw.emplace_back(r.yaw);
@@ -153,6 +130,10 @@ std::string view_report(const std::string& run_dir, std::string& error) {
         v.d.emplace_back(r.d);
         v.lane.push_back(index_of(lanes, lane_idx, std::string(r.lane)));
         v.maneuver.push_back(index_of(maneuvers, man_idx, r.maneuver.empty() ? "none" : std::string(r.maneuver)));
+    }
+    if (!in.error().empty()) {
+        error = in.error();
+        return "";
     }
     // A replay (sdv replay) keeps the replaced vehicle's recording in recorded.csv
     // (vehicle,t,x,y,heading,speed): shown as one more agent of kind "recorded", sampled at the

@@ -177,3 +177,19 @@ write("run_dir", "decisions_1000", traj + "0.0000,0,v,sdv,0,0,0,0,0,0,0,a.1,keep
       + "".join(json.dumps({"time": k / 10, "vehicle": "v", "nodes": [{"node": f"t/n{k % 7}", "status": "SUCCESS"}],
                             "rejected": {"collision": k}, "paths": [{"status": "ok", "xy": [k] * 12}]}) + "\n"
                 for k in range(1000)))
+
+# Pairs of run directories (sdv diff --runs: the first's trajectories.csv and decisions.jsonl,
+# the second's): many rows differing late, ticks at and beyond the highest of any run, a long
+# name, deep and many decisions.
+rows_a = "".join(rows.splitlines(keepends=True)[:1200])  # both runs within -max_len (256 KB)
+rows_b = rows_a[:-200] + rows_a[-200:].replace("119.9000", "119.8000")  # the last row's x
+row = "0.0000,{tick},v,sdv,0,0,0,0,0,0,0,a.1,keep\n"
+write("run_diff", "rows_1200_differ_last", traj + rows_a + "\0\0" + traj + rows_b)
+write("run_diff", "tick_highest_of_any_run", traj + row.format(tick=86400000) + "\0\0" + traj + row.format(tick=86400001))
+write("run_diff", "long_name_100k", traj + "0.0000,0," + "v" * 100000 + ",sdv,0,0,0,0,0,0,0,a.1,keep\n")
+write("run_diff", "decisions_depth_20000", traj + row.format(tick=0) + "\0" + '{"time":0,"vehicle":"v","cost":' + "[" * 20000
+      + "]" * 20000 + "}")
+decisions = "".join(json.dumps({"time": k / 10, "vehicle": f"v{k % 3}", "maneuver": "keep", "winner": k % 6,
+                                "cost": {"total": k / 7}}) + "\n" for k in range(1000))
+write("run_diff", "decisions_1000_last_differs", traj + row.format(tick=0) + "\0" + decisions + "\0" + traj + row.format(tick=0)
+      + "\0" + decisions.replace('"winner": 3, "cost": {"total": 142.714', '"winner": 2, "cost": {"total": 142.714'))

@@ -108,3 +108,8 @@ write("run_dir", JSON | cpp_literals("runtime/io/view.cpp", "runtime/io/plot.cpp
          "metrics", "vehicles", "length", "width", "nodes", "node", "status", "paths", "xy", "rejected", "cost", "start",
          "0.0000", "-0.0000", "1e308", "nan", "inf"},
       "run directories: trajectories.csv and recorded.csv columns, summary.json, road.json and decisions.jsonl keys")
+write("run_diff", JSON | cpp_literals("runtime/io/run_diff.cpp", "runtime/io/recorder.cpp")
+      | {"\n", "\x00", ",", "time,tick,vehicle,kind,x,y,yaw,speed,accel,s,d,lane,maneuver\n", "sdv", "ego", "pedestrian",
+         "time", "vehicle", "maneuver", "winner", "cost", "total", "keep", "0.0000", "-0.0000", "0.0010", "0.0011",
+         "86400000", "100000", "999999999999.9999", "1e308"},
+      "pairs of run directories: trajectories.csv columns, decisions.jsonl keys")

@@ -60,3 +60,4 @@ TEST_CASE("cosim_frame") { replay("cosim_frame", sdv_fuzz_cosim_frame); }
 TEST_CASE("sweep_results") { replay("sweep_results", sdv_fuzz_sweep_results); }
 TEST_CASE("recording") { replay("recording", sdv_fuzz_recording); }
 TEST_CASE("run_dir") { replay("run_dir", sdv_fuzz_run_dir); }
+TEST_CASE("run_diff") { replay("run_diff", sdv_fuzz_run_diff); }

@@ -12,6 +12,11 @@ size the fuzzers mutate quickly.
                                                decisions.jsonl, recorded.csv, up to the last one
                                                there; the rows and decisions of the first TICKS
                                                ticks only
+  seed_tools.py diff-seed RUN_A RUN_B TICKS OUT  two run directories (run_diff): the first's
+                                               trajectories.csv and decisions.jsonl, the
+                                               second's, NUL between them; the first TICKS
+                                               ticks of each. RUN_B "-": the first's alone
+                                               (the target compares it with a copy)
   seed_tools.py crop-lanelet2 MAP N OUT_DIR    small maps cut from a Lanelet2 map: N lanelets each,
                                                with their ways, nodes and regulatory elements
 """
@@ -91,12 +96,13 @@ def sweep_seed(sweep_dir, out):
 RUN_FILES = ["trajectories.csv", "summary.json", "road.json", "decisions.jsonl", "recorded.csv"]
 
 
-def run_seed(run_dir, ticks, out):
+def run_parts(run_dir, ticks, names):
+    """The files `names` of a run directory cut to the first `ticks` ticks (None: absent)."""
     d = pathlib.Path(run_dir)
     ticks = int(ticks)
     parts = []
     last_time = 0.0  # of the rows kept: decisions after it are left out
-    for name in RUN_FILES:
+    for name in names:
         f = d / name
         if not f.exists():
             parts.append(None)
@@ -110,6 +116,19 @@ def run_seed(run_dir, ticks, out):
         elif name == "decisions.jsonl":
             data = b"".join(l for l in data.splitlines(keepends=True) if json.loads(l)["time"] <= last_time)
         parts.append(data)
+    return parts
+
+
+def run_seed(run_dir, ticks, out):
+    parts = run_parts(run_dir, ticks, RUN_FILES)
+    while parts and parts[-1] is None:
+        parts.pop()
+    pathlib.Path(out).write_bytes(b"\0".join(p or b"" for p in parts))
+
+
+def diff_seed(run_a, run_b, ticks, out):
+    names = ["trajectories.csv", "decisions.jsonl"]
+    parts = run_parts(run_a, ticks, names) + (run_parts(run_b, ticks, names) if run_b != "-" else [])
     while parts and parts[-1] is None:
         parts.pop()
     pathlib.Path(out).write_bytes(b"\0".join(p or b"" for p in parts))
@@ -167,4 +186,4 @@ def crop_lanelet2(path, n, out_dir):
 if __name__ == "__main__":
     cmd, args = sys.argv[1], sys.argv[2:]
     {"record-to-wire": record_to_wire, "truncate-record": truncate_record, "cosim-frames": cosim_frames,
-     "sweep-seed": sweep_seed, "run-seed": run_seed, "crop-lanelet2": crop_lanelet2}[cmd](*args)
+     "sweep-seed": sweep_seed, "run-seed": run_seed, "diff-seed": diff_seed, "crop-lanelet2": crop_lanelet2}[cmd](*args)

@@ -1,0 +1,213 @@
+#include "runtime/io/run_diff.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <optional>
+#include <sstream>
+
+#include "runtime/catalog/catalog.h"
+#include "runtime/io/run_dir.h"
+#include "runtime/io/text.h"
+#include "runtime/ir/ir_io.h"
+#include "runtime/road/reader_text.h"
+
+namespace sdv::io {
+namespace {
+
+using Json = nlohmann::json;
+constexpr auto num = catalog::format_number;
+
+// One row of trajectories.csv: what a run diff compares (the texts as the run wrote them).
+struct Row {
+    std::string time, x, y, speed;
+};
+// By (tick, agent): the order in which differences are reported.
+using Rows = std::map<std::pair<long, std::string>, Row>;
+
+// trajectories.csv of a run directory, checked as sdv view reads it (TrajectoryReader), at
+// any tick a run can have. Returns "" or the error.
+std::string read_rows(const std::string& dir, Rows& rows) {
+    const std::string path = dir + "/trajectories.csv";
+    std::string text;
+    if (!road::read_file(path, text)) return "cannot read " + path;
+    TrajectoryReader in(text, path, kMaxRunTicks);
+    TrajectoryRow r;
+    while (in.next(r)) {
+        rows[{r.tick, std::string(r.vehicle)}] = {std::string(r.time), std::string(r.x), std::string(r.y), std::string(r.speed)};
+    }
+    return in.error();
+}
+
+// decisions.jsonl of a run directory by (time, agent), or nothing when the run has none. A line
+// is a JSON object nested at most kMaxRunJsonDepth levels (deeper text is refused before it
+// is parsed, as comparing it recurses per level); lines without a number `time` and a string
+// `vehicle` name no decision and are left aside, as sdv view leaves fields of another type.
+using Decisions = std::map<std::pair<double, std::string>, Json>;
+std::string read_decisions(const std::string& dir, std::optional<Decisions>& out) {
+    const std::string path = dir + "/decisions.jsonl";
+    std::string text;
+    if (!road::read_file(path, text)) return "";
+    out.emplace();
+    std::istringstream in(text);
+    std::string line;
+    for (size_t n = 1; std::getline(in, line); ++n) {
+        if (line.empty()) continue;
+        const std::string where = path + ":" + std::to_string(n) + ": ";
+        if (ir::json_depth(line) > kMaxRunJsonDepth) {
+            return where + "JSON nested more than " + std::to_string(kMaxRunJsonDepth) + " levels deep";
+        }
+        Json d = Json::parse(line, nullptr, false);
+        if (d.is_discarded() || !d.is_object()) return where + "not valid JSON";
+        const auto time = d.find("time");
+        const auto vehicle = d.find("vehicle");
+        if (time == d.end() || !time->is_number() || vehicle == d.end() || !vehicle->is_string()) continue;
+        const std::pair<double, std::string> key{time->get<double>(), vehicle->get<std::string>()};
+        out->emplace(key, std::move(d));
+    }
+    return "";
+}
+
+// Field `key` of a decision, null when it has none.
+const Json& field(const Json& d, const char* key) {
+    static const Json kNull;
+    const auto it = d.find(key);
+    return it == d.end() ? kNull : *it;
+}
+
+// A JSON value as a short text: the whole of it up to 60 bytes.
+std::string shown(const Json& v) {
+    const std::string t = v.is_string() ? v.get<std::string>() : json_text(v);
+    return t.size() > 60 ? t.substr(0, 57) + "..." : t;
+}
+
+// A number of trajectories.csv: finite, as parse_trajectory_row bounds its digits.
+double number(const std::string& t) { return std::strtod(t.c_str(), nullptr); }
+
+nlohmann::ordered_json to_json(const RunDiff& d) {
+    nlohmann::ordered_json j;
+    j["equal"] = d.equal;
+    if (!d.error.empty()) j["error"] = d.error;
+    if (d.first_tick >= 0) {
+        j["first_tick"] = d.first_tick;
+        j["first_time"] = d.first_time;
+        j["vehicles"] = d.vehicles;
+        j["detail"] = d.detail;
+    }
+    if (!d.decision_detail.empty()) {
+        j["decision"] = {{"time", d.decision_time}, {"vehicle", d.decision_vehicle}, {"detail", d.decision_detail}};
+    }
+    return j;
+}
+
+}  // namespace
+
+RunDiff diff_runs(const std::string& dir_a, const std::string& dir_b, double tol) {
+    RunDiff d;
+    Rows a, b;
+    if (d.error = read_rows(dir_a, a); !d.error.empty()) return d;
+    if (d.error = read_rows(dir_b, b); !d.error.empty()) return d;
+    std::optional<Decisions> da, db;
+    if (d.error = read_decisions(dir_a, da); !d.error.empty()) return d;
+    if (d.error = read_decisions(dir_b, db); !d.error.empty()) return d;
+    // Both runs' rows in (tick, agent) order: the first tick where an agent is in one run only,
+    // or at another place or speed, and every agent that differs at that tick.
+    auto ia = a.begin(), ib = b.begin();
+    while (ia != a.end() || ib != b.end()) {
+        const bool only_a = ib == b.end() || (ia != a.end() && ia->first < ib->first);
+        const bool only_b = !only_a && (ia == a.end() || ib->first < ia->first);
+        const auto& key = only_a ? ia->first : ib->first;
+        if (d.first_tick >= 0 && key.first != d.first_tick) break;
+        std::string detail;
+        if (only_a) {
+            detail = key.second + " is missing from the second run";
+        } else if (only_b) {
+            detail = key.second + " is missing from the first run";
+        } else {
+            const Row &ra = ia->second, &rb = ib->second;
+            const double dp = std::hypot(number(rb.x) - number(ra.x), number(rb.y) - number(ra.y));
+            const double dv = std::fabs(number(rb.speed) - number(ra.speed));
+            if (!(dp <= tol) || !(dv <= tol)) {
+                detail = key.second + ": position differs by " + num(dp) + " m, speed " + num(number(ra.speed)) + " → " +
+                         num(number(rb.speed)) + " m/s";
+            }
+        }
+        if (!detail.empty()) {
+            if (d.first_tick < 0) {
+                d.equal = false;
+                d.first_tick = key.first;
+                d.first_time = number(only_b ? ib->second.time : ia->second.time);
+                d.detail = detail;
+            }
+            d.vehicles.push_back(key.second);
+        }
+        if (!only_b) ++ia;
+        if (!only_a) ++ib;
+    }
+    // Decision traces: the first planning cycle (by time, then agent) whose maneuver, winning
+    // candidate or cost differs, or that one run has and the other not.
+    if (da && db) {
+        d.has_decisions = true;
+        auto ja = da->begin(), jb = db->begin();
+        while (ja != da->end() || jb != db->end()) {
+            const bool only_a = jb == db->end() || (ja != da->end() && ja->first < jb->first);
+            const bool only_b = !only_a && (ja == da->end() || jb->first < ja->first);
+            const auto& key = only_a ? ja->first : jb->first;
+            std::string what;
+            if (only_a) {
+                what = "no decision in the second run";
+            } else if (only_b) {
+                what = "no decision in the first run";
+            } else {
+                const Json &x = ja->second, &y = jb->second;
+                if (field(x, "maneuver") != field(y, "maneuver")) {
+                    what = "maneuver " + shown(field(x, "maneuver")) + " → " + shown(field(y, "maneuver"));
+                } else if (field(x, "winner") != field(y, "winner") || field(x, "cost") != field(y, "cost")) {
+                    const Json& ca = field(x, "cost");
+                    const Json& cb = field(y, "cost");
+                    what = "maneuver " + shown(field(x, "maneuver")) + ": winning candidate " + shown(field(x, "winner")) + " → " +
+                           shown(field(y, "winner")) + " (cost " + shown(ca.is_object() ? field(ca, "total") : ca) + " → " +
+                           shown(cb.is_object() ? field(cb, "total") : cb) + ")";
+                }
+            }
+            if (!what.empty()) {
+                d.equal = false;
+                d.decision_time = key.first;
+                d.decision_vehicle = key.second;
+                d.decision_detail = what;
+                break;
+            }
+            if (!only_b) ++ja;
+            if (!only_a) ++jb;
+        }
+    }
+    return d;
+}
+
+std::string render_text(const RunDiff& d) {
+    if (!d.error.empty()) return d.error + "\n";
+    if (d.equal) return "runs are equal\n";
+    std::ostringstream o;
+    if (d.first_tick >= 0) {
+        o << "first divergence at tick " << d.first_tick << " (t = " << num(d.first_time) << " s): ";
+        for (size_t i = 0; i < d.vehicles.size(); ++i) o << (i ? ", " : "") << d.vehicles[i];
+        o << "\n  " << d.detail << "\n";
+    } else if (!d.detail.empty()) {
+        o << d.detail << "\n";
+    }
+    if (!d.decision_detail.empty()) {
+        o << "first differing decision at t = " << num(d.decision_time) << " s, vehicle " << d.decision_vehicle << ": "
+          << d.decision_detail << "\n";
+    } else if (!d.has_decisions) {
+        o << "(no decision traces to compare: run both with --trace)\n";
+    }
+    return o.str();
+}
+
+std::string render_json(const RunDiff& d) {
+    return to_json(d).dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+}
+
+}  // namespace sdv::io
