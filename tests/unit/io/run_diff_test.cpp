@@ -14,20 +14,21 @@
 #include <map>
 #include <random>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
-#include "runtime/io/outputs.h"
-#include "runtime/io/recorder.h"
 #include "runtime/io/run_diff.h"
 #include "runtime/road/reader_text.h"
-#include "runtime/sim/world.h"
-#include "tests/unit/io/compile_text.h"
+#include "tests/unit/io/csv_lines.h"
 #include "tests/unit/io/temp_dir.h"
+#include "tests/unit/io/traced_run.h"
 
 using namespace sdv;
 using test::TempDir;
+using test::cells_of;
+using test::joined;
+using test::lines_of;
+using test::row_of;
 using Json = nlohmann::json;
 
 namespace {
@@ -56,18 +57,8 @@ struct RunFiles {
 
 // trajectories.csv and decisions.jsonl of a traced run of two_cars(truck_speed).
 RunFiles run_files(const std::string& truck_speed) {
-    auto p = test::compile_text(two_cars(truck_speed));
-    REQUIRE(p);
-    io::Recorder rec;
-    sim::RunOptions options;
-    options.trace = true;
-    const auto r = sim::simulate(*p, 0, options, &rec);
-    REQUIRE_MESSAGE(r.error.empty(), r.error);
     TempDir dir("sdv_run_diff_test_real");
-    io::RunInfo info;
-    info.trace = true;
-    const std::string error = io::write_outputs(dir.path.string(), *p, 0, r, rec.take(), info);
-    REQUIRE_MESSAGE(error.empty(), error);
+    test::write_traced_run(two_cars(truck_speed), dir.path.string());
     RunFiles out;
     REQUIRE(road::read_file((dir.path / "trajectories.csv").string(), out.trajectories));
     REQUIRE(road::read_file((dir.path / "decisions.jsonl").string(), out.decisions));
@@ -91,34 +82,6 @@ struct Pair {
     io::RunDiff forward() const { return io::diff_runs(a.path.string(), b.path.string()); }
     io::RunDiff backward() const { return io::diff_runs(b.path.string(), a.path.string()); }
 };
-
-std::vector<std::string> lines_of(const std::string& text) {
-    std::vector<std::string> out;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);) out.push_back(line);
-    return out;
-}
-
-std::string joined(const std::vector<std::string>& lines) {
-    std::string out;
-    for (const auto& l : lines) out += l + "\n";
-    return out;
-}
-
-std::vector<std::string> cells_of(const std::string& line) {
-    std::vector<std::string> out(1);
-    for (char c : line) {
-        if (c == ',') out.emplace_back();
-        else out.back() += c;
-    }
-    return out;
-}
-
-std::string row_of(const std::vector<std::string>& cells) {
-    std::string out;
-    for (size_t i = 0; i < cells.size(); ++i) out += (i ? "," : "") + cells[i];
-    return out;
-}
 
 std::string fixed4(double v) {
     char buf[64];

@@ -12,22 +12,23 @@
 #include <cstdio>
 #include <random>
 #include <regex>
-#include <sstream>
 #include <string>
 #include <vector>
 
-#include "runtime/io/outputs.h"
 #include "runtime/io/plot.h"
-#include "runtime/io/recorder.h"
 #include "runtime/io/run_dir.h"
 #include "runtime/io/view.h"
 #include "runtime/road/reader_text.h"
-#include "runtime/sim/world.h"
-#include "tests/unit/io/compile_text.h"
+#include "tests/unit/io/csv_lines.h"
 #include "tests/unit/io/temp_dir.h"
+#include "tests/unit/io/traced_run.h"
 
 using namespace sdv;
 using test::TempDir;
+using test::cells_of;
+using test::joined;
+using test::lines_of;
+using test::row_of;
 using Json = nlohmann::json;
 
 namespace {
@@ -53,18 +54,8 @@ struct RealRun {
 
 const RealRun& real_run() {
     static const RealRun run = [] {
-        auto p = test::compile_text(kTwoCars);
-        REQUIRE(p);
-        io::Recorder rec;
-        sim::RunOptions options;
-        options.trace = true;
-        const auto r = sim::simulate(*p, 0, options, &rec);
-        REQUIRE_MESSAGE(r.error.empty(), r.error);
         TempDir dir("sdv_run_dir_test_real");
-        io::RunInfo info;
-        info.trace = true;
-        const std::string error = io::write_outputs(dir.path.string(), *p, 0, r, rec.take(), info);
-        REQUIRE_MESSAGE(error.empty(), error);
+        test::write_traced_run(kTwoCars, dir.path.string());
         RealRun out;
         REQUIRE(road::read_file((dir.path / "trajectories.csv").string(), out.trajectories));
         REQUIRE(road::read_file((dir.path / "summary.json").string(), out.summary));
@@ -94,34 +85,6 @@ Json view_data(const std::string& html) {
     const size_t tail = page.size() - at - std::string_view("__SDV_DATA__").size();
     REQUIRE(html.size() >= at + tail);
     return Json::parse(html.substr(at, html.size() - at - tail), nullptr, false);
-}
-
-std::vector<std::string> lines_of(const std::string& text) {
-    std::vector<std::string> out;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);) out.push_back(line);
-    return out;
-}
-
-std::string joined(const std::vector<std::string>& lines) {
-    std::string out;
-    for (const auto& l : lines) out += l + "\n";
-    return out;
-}
-
-std::vector<std::string> cells_of(const std::string& line) {
-    std::vector<std::string> out(1);
-    for (char c : line) {
-        if (c == ',') out.emplace_back();
-        else out.back() += c;
-    }
-    return out;
-}
-
-std::string row_of(const std::vector<std::string>& cells) {
-    std::string out;
-    for (size_t i = 0; i < cells.size(); ++i) out += (i ? "," : "") + cells[i];
-    return out;
 }
 
 }  // namespace
