@@ -51,7 +51,7 @@ declare -A timeout_sanitized=([sdv_frontend]=3 [btree]=3 [gss_scenario]=3)
 # core of the development machine (docs/reliability.md has each target's exec/s).
 declare -A ci_runs=([sdv_frontend]=2500 [ir_reader]=15000 [btree]=8000 [gss_scenario]=9000
                     [lanelet2]=7000 [cosim_frame]=3000 [sweep_results]=15000 [recording]=3000
-                    [run_dir]=10000 [run_diff]=10000)
+                    [run_dir]=10000 [run_diff]=3000)
 
 usage() {
     sed -n '4,8p' "$0" >&2
