@@ -61,7 +61,6 @@ public:
     bool next(TrajectoryRow& row);
     // The agent of the last row: its index in the order of the agents' first rows.
     size_t agent() const { return agent_; }
-    size_t agents() const { return last_tick_.size(); }
     const std::string& error() const { return error_; }
 
 private:
