@@ -76,7 +76,7 @@ bool TrajectoryReader::next(TrajectoryRow& row) {
     rest_.remove_prefix(eol == std::string_view::npos ? rest_.size() : eol + 1);
     ++row_;
     if (std::string wrong = parse_trajectory_row(line, row, max_tick_); !wrong.empty()) {
-        error_ = file_ + ":" + std::to_string(row_) + ": " + wrong;
+        error_ = where() + wrong;
         return false;
     }
     const auto [it, fresh] = by_name_.try_emplace(std::string(row.vehicle), last_tick_.size());
@@ -86,7 +86,7 @@ bool TrajectoryReader::next(TrajectoryRow& row) {
         return true;
     }
     if (row.tick != last_tick_[agent_] + 1) {
-        error_ = file_ + ":" + std::to_string(row_) + ": agent " + json_text(nlohmann::json(std::string(row.vehicle.substr(0, 40)))) +
+        error_ = where() + "agent " + json_text(nlohmann::json(std::string(row.vehicle.substr(0, 40)))) +
                  " at tick " + std::to_string(row.tick) + " after tick " + std::to_string(last_tick_[agent_]) +
                  " (an agent has a row at every tick from its first to its last)";
         return false;

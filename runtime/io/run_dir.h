@@ -13,10 +13,11 @@ namespace sdv::io {
 // The header of trajectories.csv (runtime/io/recorder.cpp writes it).
 inline constexpr std::string_view kTrajectoriesHeader = "time,tick,vehicle,kind,x,y,yaw,speed,accel,s,d,lane,maneuver";
 
-// The highest tick a report shows: 100,000 (55 min at 30 Hz). The viewer's data holds a time per
-// tick up to the last, so a higher tick is refused: one row at tick 99,999,999 (166 bytes) asked
-// for 2.2 GB, and at 1,000,000 the page's data is 5 MB of it, whatever the rows.
-inline constexpr long kMaxReportTicks = 100'000;
+// The most ticks a report leaves without a row, up to its last: 100,000 (55 min at 30 Hz). The
+// viewer's data holds a time per tick up to the last, so rows far apart would make it far larger
+// than the run (one row at tick 99,999,999, 166 bytes, asked for 2.2 GB). sdv run writes a row at
+// every tick while an agent is on the road, so a report of a run of any length is within it.
+inline constexpr long kMaxEmptyTicks = 100'000;
 
 // The highest tick of any run: a day (catalog::kMaxScenarioTime) at the highest traffic rate
 // (1,000 Hz). Readers that keep only the rows (sdv diff --runs) take ticks up to it.
@@ -42,7 +43,7 @@ struct TrajectoryRow {
 // 0 to max_tick, the time and the 7 columns from x to d numbers as the outputs write them
 // (is_plain_number) of at most kMaxNumberDigits digits before the point. Returns "" or what is
 // wrong, e.g. "column 'x' is not a number: 'abc'".
-std::string parse_trajectory_row(std::string_view line, TrajectoryRow& row, long max_tick = kMaxReportTicks);
+std::string parse_trajectory_row(std::string_view line, TrajectoryRow& row, long max_tick = kMaxRunTicks);
 
 // Reads trajectories.csv as every reader of a run directory does (sdv view, sdv plot,
 // sdv diff --runs): the header, then each row checked (parse_trajectory_row) and each agent with
@@ -56,11 +57,13 @@ std::string parse_trajectory_row(std::string_view line, TrajectoryRow& row, long
 class TrajectoryReader {
 public:
     // `text` must outlive the reader (rows are views into it); `file` names it in errors.
-    TrajectoryReader(std::string_view text, std::string file, long max_tick = kMaxReportTicks);
+    TrajectoryReader(std::string_view text, std::string file, long max_tick = kMaxRunTicks);
     // The next row; false at the end of the file or at a problem (then error() is set).
     bool next(TrajectoryRow& row);
     // The agent of the last row: its index in the order of the agents' first rows.
     size_t agent() const { return agent_; }
+    // "FILE:LINE: " of the last row, to locate a problem its reader finds.
+    std::string where() const { return file_ + ":" + std::to_string(row_) + ": "; }
     const std::string& error() const { return error_; }
 
 private:

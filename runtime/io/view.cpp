@@ -110,9 +110,18 @@ std::string view_report(const std::string& run_dir, std::string& error) {
     std::string line;
     TrajectoryReader in(csv, (dir / "trajectories.csv").string());
     TrajectoryRow r;
+    size_t filled = 0;  // ticks with a row
     while (in.next(r)) {
         const auto tick = static_cast<size_t>(r.tick);
-        if (tick >= times.size()) times.resize(tick + 1);
+        if (tick >= times.size()) {
+            if (tick - filled > static_cast<size_t>(kMaxEmptyTicks)) {
+                error = in.where() + "tick " + std::to_string(tick) + " leaves " + std::to_string(tick - filled) +
+                        " ticks without a row before it (a report holds a time per tick: at most " + std::to_string(kMaxEmptyTicks) + ")";
+                return "";
+            }
+            times.resize(tick + 1);
+        }
+        filled += times[tick].empty();
         times[tick] = r.time;
         if (in.agent() == vehicles.size()) {
             vehicles.emplace_back();
