@@ -2,11 +2,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
-#include <cstdlib>
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <sstream>
+#include <string_view>
+#include <vector>
 
 #include "runtime/catalog/catalog.h"
 #include "runtime/io/run_dir.h"
@@ -20,25 +24,51 @@ namespace {
 using Json = nlohmann::json;
 constexpr auto num = catalog::format_number;
 
-// One row of trajectories.csv: what a run diff compares (the texts as the run wrote them).
+// One row of trajectories.csv: what a run diff compares. 48 bytes, so that runs of millions of
+// rows (1,000 vehicles for 2 minutes is 3.6 million) fit: the agent is an index into the names
+// of both runs, the numbers are finite (parse_trajectory_row bounds their digits).
 struct Row {
-    std::string time, x, y, speed;
+    long tick = 0;
+    uint32_t agent = 0;
+    double time = 0, x = 0, y = 0, speed = 0;
 };
-// By (tick, agent): the order in which differences are reported.
-using Rows = std::map<std::pair<long, std::string>, Row>;
+
+// The agents' names of both runs, each once.
+struct Names {
+    std::map<std::string, uint32_t, std::less<>> index;
+    std::vector<std::string> names;
+    uint32_t of(std::string_view name) {
+        const auto it = index.find(name);
+        if (it != index.end()) return it->second;
+        names.emplace_back(name);
+        return index.emplace(std::string(name), static_cast<uint32_t>(names.size() - 1)).first->second;
+    }
+};
+
+double number(std::string_view t) {
+    double v = 0;
+    std::from_chars(t.data(), t.data() + t.size(), v);
+    return v;
+}
 
 // trajectories.csv of a run directory, checked as sdv view reads it (TrajectoryReader), at
 // any tick a run can have. Returns "" or the error.
-std::string read_rows(const std::string& dir, Rows& rows) {
+std::string read_rows(const std::string& dir, Names& names, std::vector<Row>& rows) {
     const std::string path = dir + "/trajectories.csv";
     std::string text;
     if (!road::read_file(path, text)) return "cannot read " + path;
     TrajectoryReader in(text, path, kMaxRunTicks);
     TrajectoryRow r;
-    while (in.next(r)) {
-        rows[{r.tick, std::string(r.vehicle)}] = {std::string(r.time), std::string(r.x), std::string(r.y), std::string(r.speed)};
-    }
+    while (in.next(r)) rows.push_back({r.tick, names.of(r.vehicle), number(r.time), number(r.x), number(r.y), number(r.speed)});
     return in.error();
+}
+
+// Sorts rows by (tick, name): the order in which differences are reported. An agent has one row
+// per tick (TrajectoryReader), so no two rows of a run share a place.
+void sort_rows(std::vector<Row>& rows, const std::vector<uint32_t>& rank) {
+    std::sort(rows.begin(), rows.end(), [&](const Row& p, const Row& q) {
+        return p.tick != q.tick ? p.tick < q.tick : rank[p.agent] < rank[q.agent];
+    });
 }
 
 // decisions.jsonl of a run directory by (time, agent), or nothing when the run has none. A line
@@ -64,8 +94,12 @@ std::string read_decisions(const std::string& dir, std::optional<Decisions>& out
         const auto time = d.find("time");
         const auto vehicle = d.find("vehicle");
         if (time == d.end() || !time->is_number() || vehicle == d.end() || !vehicle->is_string()) continue;
-        const std::pair<double, std::string> key{time->get<double>(), vehicle->get<std::string>()};
-        out->emplace(key, std::move(d));
+        // What is compared, not the rest (tree nodes and candidate paths are most of a line).
+        Json kept = Json::object();
+        for (const char* key : {"maneuver", "winner", "cost"}) {
+            if (const auto it = d.find(key); it != d.end()) kept[key] = std::move(*it);
+        }
+        out->emplace(std::pair<double, std::string>{time->get<double>(), vehicle->get<std::string>()}, std::move(kept));
     }
     return "";
 }
@@ -82,9 +116,6 @@ std::string shown(const Json& v) {
     const std::string t = v.is_string() ? v.get<std::string>() : json_text(v);
     return t.size() > 60 ? t.substr(0, 57) + "..." : t;
 }
-
-// A number of trajectories.csv: finite, as parse_trajectory_row bounds its digits.
-double number(const std::string& t) { return std::strtod(t.c_str(), nullptr); }
 
 nlohmann::ordered_json to_json(const RunDiff& d) {
     nlohmann::ordered_json j;
@@ -106,42 +137,50 @@ nlohmann::ordered_json to_json(const RunDiff& d) {
 
 RunDiff diff_runs(const std::string& dir_a, const std::string& dir_b, double tol) {
     RunDiff d;
-    Rows a, b;
-    if (d.error = read_rows(dir_a, a); !d.error.empty()) return d;
-    if (d.error = read_rows(dir_b, b); !d.error.empty()) return d;
+    Names names;
+    std::vector<Row> a, b;
+    if (d.error = read_rows(dir_a, names, a); !d.error.empty()) return d;
+    if (d.error = read_rows(dir_b, names, b); !d.error.empty()) return d;
     std::optional<Decisions> da, db;
     if (d.error = read_decisions(dir_a, da); !d.error.empty()) return d;
     if (d.error = read_decisions(dir_b, db); !d.error.empty()) return d;
-    // Both runs' rows in (tick, agent) order: the first tick where an agent is in one run only,
+    std::vector<uint32_t> rank(names.names.size());  // of each name in sorted order
+    {
+        uint32_t k = 0;
+        for (const auto& [name, index] : names.index) rank[index] = k++;
+    }
+    sort_rows(a, rank);
+    sort_rows(b, rank);
+    // Both runs' rows in (tick, name) order: the first tick where an agent is in one run only,
     // or at another place or speed, and every agent that differs at that tick.
+    auto place = [&](const Row& r) { return std::pair{r.tick, rank[r.agent]}; };
     auto ia = a.begin(), ib = b.begin();
     while (ia != a.end() || ib != b.end()) {
-        const bool only_a = ib == b.end() || (ia != a.end() && ia->first < ib->first);
-        const bool only_b = !only_a && (ia == a.end() || ib->first < ia->first);
-        const auto& key = only_a ? ia->first : ib->first;
-        if (d.first_tick >= 0 && key.first != d.first_tick) break;
+        const bool only_a = ib == b.end() || (ia != a.end() && place(*ia) < place(*ib));
+        const bool only_b = !only_a && (ia == a.end() || place(*ib) < place(*ia));
+        const Row& first = only_b ? *ib : *ia;
+        if (d.first_tick >= 0 && first.tick != d.first_tick) break;
+        const std::string& name = names.names[first.agent];
         std::string detail;
         if (only_a) {
-            detail = key.second + " is missing from the second run";
+            detail = name + " is missing from the second run";
         } else if (only_b) {
-            detail = key.second + " is missing from the first run";
+            detail = name + " is missing from the first run";
         } else {
-            const Row &ra = ia->second, &rb = ib->second;
-            const double dp = std::hypot(number(rb.x) - number(ra.x), number(rb.y) - number(ra.y));
-            const double dv = std::fabs(number(rb.speed) - number(ra.speed));
+            const double dp = std::hypot(ib->x - ia->x, ib->y - ia->y);
+            const double dv = std::fabs(ib->speed - ia->speed);
             if (!(dp <= tol) || !(dv <= tol)) {
-                detail = key.second + ": position differs by " + num(dp) + " m, speed " + num(number(ra.speed)) + " → " +
-                         num(number(rb.speed)) + " m/s";
+                detail = name + ": position differs by " + num(dp) + " m, speed " + num(ia->speed) + " → " + num(ib->speed) + " m/s";
             }
         }
         if (!detail.empty()) {
             if (d.first_tick < 0) {
                 d.equal = false;
-                d.first_tick = key.first;
-                d.first_time = number(only_b ? ib->second.time : ia->second.time);
+                d.first_tick = first.tick;
+                d.first_time = first.time;
                 d.detail = detail;
             }
-            d.vehicles.push_back(key.second);
+            d.vehicles.push_back(name);
         }
         if (!only_b) ++ia;
         if (!only_a) ++ib;
