@@ -195,6 +195,12 @@ ENTRIES = {
               "An element or tree leaf sdv cannot simulate: an element GeoScenario 2.0 does not define, the "
               "`at_desired_speed` and `past_crosswalk_halfway` conditions of a pedestrian tree, a `gap` "
               "condition without a distance or time, or a tree that never selects a maneuver."),
+    "W0001": ("too many warnings",
+              "After 100 warnings in one compilation the rest are counted, not shown: this note "
+              "(severity `note`, no location) gives their number, and the warning count (the "
+              "summary of `sdv lint` on a terminal) includes them. A warning promoted to an error "
+              "(`-Werror`) counts towards the 100 errors of E0007 instead. Silence a kind with "
+              "`-Wno-NAME`, or fix the first ones and run again."),
     "W0101": ("unused-tree", "A tree of the main file is used by no scenario (only when the file has a scenario)."),
     "W0102": ("unused-parameter", "A tree parameter is never referenced in the tree."),
     "W0103": ("unused-import", "Nothing from an import is used (only when the file has a scenario)."),
@@ -227,7 +233,8 @@ def render():
            "(tests/golden/lint/CODE_*); do not edit by hand.", "",
            "Every diagnostic has a stable code: `E00xx` syntax, `E01xx` names, `E02xx` types and "
            "units, `E03xx` values, `E04xx` trees, `E05xx` scenarios, `E06xx` campaigns (`vary`), `E09xx` GeoScenario inputs "
-           "(.btree trees, .osm scenarios), `W01xx` and `W09xx` warnings. Warnings "
+           "(.btree trees, .osm scenarios), `W01xx` and `W09xx` warnings, `W0001` the note "
+           "that warnings were left out. Warnings "
            "are named; `-Wno-NAME` silences one, `-Werror=NAME` promotes one, `-Werror` all. "
            "`--format json` prints the same diagnostics as JSON.", ""]
     for code, (title, text) in ENTRIES.items():
@@ -260,7 +267,9 @@ def main():
         # A warning's title is its name, which -Wno-NAME and -Werror=NAME accept (cli/common.cpp).
         cli = (ROOT / "cli" / "common.cpp").read_text()
         names = set(re.findall(r'"([a-z0-9-]+)"', cli[cli.index("kWarningNames"):cli.index("};", cli.index("kWarningNames"))]))
-        unnamed = sorted(c for c, (title, _) in ENTRIES.items() if c.startswith("W") and title not in names)
+        # W0001 is the note that warnings were left out, not a warning: it has no name.
+        unnamed = sorted(c for c, (title, _) in ENTRIES.items()
+                         if c.startswith("W") and c != "W0001" and title not in names)
         if missing or untested or unnamed:
             print("codes used but not documented:", missing)
             print("codes without a golden test:", untested)

@@ -1,4 +1,6 @@
-// The error limit keeps pathological inputs (a 10 MB file of errors) fast and readable.
+// The limits keep pathological inputs (a 10 MB file of errors, a line of 4,000 ignored
+// arguments) fast and readable: the engine never holds more than about 200 diagnostics, so
+// rendering and the checker's lookups cost the same however many the input would produce.
 #include "compiler/diag/diagnostic_engine.h"
 
 #include <algorithm>
@@ -6,25 +8,12 @@
 namespace sdv::diag {
 
 Diagnostic& DiagnosticEngine::error(std::string code, SourceRange range, std::string message) {
-    if (errors_ >= limit_) {
-        if (!limit_noted_) {
-            limit_noted_ = true;
-            Diagnostic d;
-            d.code = "E0007";
-            d.message = "too many errors (" + std::to_string(limit_) + "); stopping";
-            items_.push_back(std::move(d));
-        }
-        scratch_ = Diagnostic{};
-        return scratch_;
-    }
-    ++errors_;
     Diagnostic d;
     d.severity = Severity::error;
     d.code = std::move(code);
     d.range = range;
     d.message = std::move(message);
-    items_.push_back(std::move(d));
-    return items_.back();
+    return add(std::move(d));
 }
 
 Diagnostic& DiagnosticEngine::warning(std::string code, std::string name, SourceRange range,
@@ -35,17 +24,41 @@ Diagnostic& DiagnosticEngine::warning(std::string code, std::string name, Source
     d.warning_name = std::move(name);
     d.range = range;
     d.message = std::move(message);
-    items_.push_back(std::move(d));
-    return items_.back();
+    return add(std::move(d));
 }
 
-void DiagnosticEngine::report(Diagnostic d) {
-    if (d.severity == Severity::error) {
-        Diagnostic& slot = error(d.code, d.range, d.message);
-        slot.notes = std::move(d.notes);
-        return;
+void DiagnosticEngine::report(Diagnostic d) { add(std::move(d)); }
+
+Diagnostic& DiagnosticEngine::add(Diagnostic d) {
+    switch (effect(d)) {
+        case Effect::drop:
+            break;
+        case Effect::warn:
+            if (warnings_ < warning_limit_) {
+                ++warnings_;
+                items_.push_back(std::move(d));
+                return items_.back();
+            }
+            ++unshown_warnings_;
+            break;
+        case Effect::error:
+            if (errors_ < limit_) {
+                ++errors_;
+                d.severity = Severity::error;  // a promoted warning keeps its name: -Werror,-WNAME
+                items_.push_back(std::move(d));
+                return items_.back();
+            }
+            if (!limit_noted_) {
+                limit_noted_ = true;
+                Diagnostic note;
+                note.code = "E0007";
+                note.message = "too many errors (" + std::to_string(limit_) + "); stopping";
+                items_.push_back(std::move(note));
+            }
+            break;
     }
-    items_.push_back(std::move(d));
+    scratch_ = Diagnostic{};
+    return scratch_;
 }
 
 Diagnostic* DiagnosticEngine::find(const std::string& code, SourceRange range) {
@@ -65,27 +78,8 @@ DiagnosticEngine::Effect DiagnosticEngine::effect(const Diagnostic& d) const {
     return policy_.all_errors ? Effect::error : Effect::warn;
 }
 
-size_t DiagnosticEngine::error_count() const {
-    size_t n = 0;
-    for (const auto& d : items_) n += effect(d) == Effect::error;
-    return n;
-}
-
-size_t DiagnosticEngine::warning_count() const {
-    size_t n = 0;
-    for (const auto& d : items_) n += effect(d) == Effect::warn;
-    return n;
-}
-
 std::vector<Diagnostic> DiagnosticEngine::sorted() const {
-    std::vector<Diagnostic> out;
-    for (const auto& d : items_) {
-        const Effect e = effect(d);
-        if (e == Effect::drop) continue;
-        Diagnostic copy = d;
-        if (e == Effect::error) copy.severity = Severity::error;
-        out.push_back(std::move(copy));
-    }
+    std::vector<Diagnostic> out = items_;
     // Diagnostics without a file (command line, limits) go last.
     std::stable_sort(out.begin(), out.end(), [](const Diagnostic& a, const Diagnostic& b) {
         const auto ka = a.range.begin.file == 0 ? UINT32_MAX : a.range.begin.file;
@@ -93,6 +87,15 @@ std::vector<Diagnostic> DiagnosticEngine::sorted() const {
         if (ka != kb) return ka < kb;
         return a.range.begin.offset < b.range.begin.offset;
     });
+    if (unshown_warnings_ > 0) {
+        Diagnostic d;
+        d.severity = Severity::note;
+        d.code = "W0001";
+        d.message = std::to_string(unshown_warnings_) + " more warning" +
+                    (unshown_warnings_ == 1 ? "" : "s") + " not shown (the first " +
+                    std::to_string(warning_limit_) + " are); -Wno-NAME silences a kind";
+        out.push_back(std::move(d));
+    }
     return out;
 }
 
