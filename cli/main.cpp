@@ -651,7 +651,9 @@ int run(int argc, char** argv) {
         sub->add_option("-I,--import-dir", common.import_dirs,
                         "extra directory searched for relative imports");
         sub->add_option("--btree-path", common.btree_path,
-                        "GeoScenario input: directory searched for .btree files (repeatable)");
+                        "GeoScenario input: directory searched first for .btree files, NAME.btree "
+                        "then sdv/ or sp/NAME.btree (repeatable; then the scenario's directory and "
+                        "btrees/ in it and its parents, the reference's layout)");
         sub->add_option("--map-dir", common.map_dirs, "GeoScenario input: directory searched for the map (repeatable)");
     };
 

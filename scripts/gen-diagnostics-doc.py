@@ -169,8 +169,11 @@ ENTRIES = {
               "(\"Could not instantiate tree\")."),
     "E0904": ("unknown condition (.btree)", "A condition the mapping of docs/geoscenario.md does not know."),
     "E0905": ("missing subtree (.btree)",
-              "No NAME.btree on the search path (the referring file's directory, then each "
-              "`--btree-path DIR`)."),
+              "No NAME.btree on the search path: each `--btree-path DIR`, then the directory of "
+              "the scenario or .btree file, then each `btrees/` directory in the scenario's "
+              "directory and its parents (the reference's layout); in each, NAME.btree, then "
+              "sdv/NAME.btree for a vehicle's tree, sp/NAME.btree for a pedestrian's "
+              "(docs/geoscenario.md). The note lists the directories."),
     "E0906": ("invalid value (.btree)",
               "A value of the wrong form: a constant where a number is expected, a malformed "
               "MP(...)/LT(...) sampler, a tuple of the wrong length; or a number outside the range of "

@@ -1067,13 +1067,18 @@ BtAgent BtreeLibrary::agent(const std::string& name) const {
     return BtAgent::unknown;
 }
 
-std::optional<std::string> BtreeLibrary::find(const std::string& name) const {
+std::optional<std::string> BtreeLibrary::find(const std::string& name, BtAgent agent) const {
     std::string file = name;
     if (fs::path(file).extension() != ".btree") file += ".btree";
+    std::vector<fs::path> under = {fs::path()};
+    if (agent != BtAgent::pedestrian) under.emplace_back("sdv");
+    if (agent != BtAgent::vehicle) under.emplace_back("sp");
     for (const auto& dir : search_path_) {
-        std::error_code ec;
-        fs::path p = fs::path(dir) / file;
-        if (fs::is_regular_file(p, ec)) return p.lexically_normal().string();
+        for (const auto& sub : under) {
+            std::error_code ec;
+            fs::path p = fs::path(dir) / sub / file;
+            if (fs::is_regular_file(p, ec)) return p.lexically_normal().string();
+        }
     }
     return std::nullopt;
 }
@@ -1204,13 +1209,16 @@ std::optional<std::string> BtreeLibrary::add_file(const std::string& path, diag:
 }
 
 std::optional<std::string> BtreeLibrary::add_named(const std::string& name, diag::SourceRange where, BtAgent agent) {
-    auto path = find(name);
+    auto path = find(name, agent);
     if (!path) {
         std::string dirs;
         for (const auto& d : search_path_) dirs += (dirs.empty() ? "" : ", ") + d;
+        const std::string subs = agent == BtAgent::vehicle      ? "sdv/"
+                                 : agent == BtAgent::pedestrian ? "sp/"
+                                                                : "sdv/ and sp/";
         auto& d = diags_.error("E0905", where, "no behavior tree '" + name + "' on the search path");
         d.notes.push_back({{}, "looked for " + (fs::path(name).extension() == ".btree" ? name : name + ".btree") +
-                                   " in: " + (dirs.empty() ? "(no directory)" : dirs)});
+                                   " in each directory and its " + subs + ": " + (dirs.empty() ? "(no directory)" : dirs)});
         d.notes.push_back({{}, "add directories with --btree-path DIR"});
         return std::nullopt;
     }
@@ -1451,7 +1459,7 @@ void BtreeLibrary::node_names(const Lowered& l, bool deep, std::vector<std::stri
 
 std::string BtreeLibrary::lower_subtree(const BtNode& n, BtAgent agent, TreeState* t, bool deep, bool* never_fails) {
     const Lowered* sub = nullptr;
-    if (auto path = find(n.label)) {
+    if (auto path = find(n.label, agent)) {
         sub = lower_file(*path, n.label_range, agent);
     } else {
         add_named(n.label, n.label_range, agent);  // reports E0905

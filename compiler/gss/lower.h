@@ -43,7 +43,9 @@ std::vector<ReferenceCondition> reference_conditions(BtAgent agent);
 
 class BtreeLibrary {
 public:
-    // `search_path`: directories searched, in order, for NAME.btree.
+    // `search_path`: directories searched, in order, for NAME.btree and then, as the
+    // reference's search locations are, for <btype>/NAME.btree (sdv/ for a vehicle's tree, sp/
+    // for a pedestrian's; both, vehicle first, when the agent is not known).
     BtreeLibrary(std::vector<std::string> search_path, diag::SourceManager& sm, diag::DiagnosticEngine& diags);
 
     // Lowers the .btree file at `path` and every subtree it uses. Returns the .sdv name of its
@@ -117,7 +119,7 @@ private:
         std::set<std::string> fields;
     };
 
-    std::optional<std::string> find(const std::string& name) const;
+    std::optional<std::string> find(const std::string& name, BtAgent agent) const;
     const Lowered* lower_file(const std::string& path, diag::SourceRange where, BtAgent agent);
     NodeText lower_node(const BtNode& n, int depth, TreeState& t);
     std::string lower_leaf(const BtNode& n, const std::string& ind, TreeState& t, bool& never_fails);

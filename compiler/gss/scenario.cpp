@@ -821,9 +821,15 @@ std::optional<Converted> convert_geoscenario(const std::string& path, const Conv
         return std::nullopt;
     }
 
-    // Trees.
+    // Trees: --btree-path directories first, then the scenario's directory, then the
+    // reference's layout (its trees in btrees/sdv and btrees/sp of the collection's root, which
+    // holds scenarios/ and maps/): each btrees/ directory in the scenario's directory and its
+    // parents.
     std::vector<std::string> search = options.btree_path;
     search.push_back(fs::absolute(path, ec).parent_path().string());
+    for (size_t k = options.map_dirs.size(); k < bases.size(); ++k) {
+        if (fs::is_directory(bases[k] / "btrees", ec)) search.push_back((bases[k] / "btrees").string());
+    }
     BtreeLibrary lib(search, sm, diags);
     std::map<int, std::string> tree_of, ped_tree_of, call_of;
     for (const auto& v : sc->vehicles) {
