@@ -169,8 +169,13 @@ RunDiff diff_runs(const std::string& dir_a, const std::string& dir_b, double tol
         } else {
             const double dp = std::hypot(ib->x - ia->x, ib->y - ia->y);
             const double dv = std::fabs(ib->speed - ia->speed);
-            if (!(dp <= tol) || !(dv <= tol)) {
-                detail = name + ": position differs by " + num(dp) + " m, speed " + num(ia->speed) + " → " + num(ib->speed) + " m/s";
+            // What differs, beyond the tolerance: the position, the speed or both.
+            const bool moved = !(dp <= tol), sped = !(dv <= tol);
+            if (moved || sped) {
+                detail = name + ":";
+                if (moved) detail += " position differs by " + num(dp) + " m";
+                if (moved && sped) detail += ",";
+                if (sped) detail += " speed " + num(ia->speed) + " → " + num(ib->speed) + " m/s";
             }
         }
         if (!detail.empty()) {

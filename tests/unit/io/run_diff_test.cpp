@@ -139,6 +139,7 @@ TEST_CASE("every change beyond the tolerance is found at its tick, with every ag
         std::vector<std::string> changed = lines;
         const bool within = trial % 5 == 0;  // every fifth trial changes less than the tolerance
         std::map<long, std::set<std::string>> at;  // the agents changed, by tick
+        std::map<std::pair<long, std::string>, bool> moved;  // a position changed, else the speed
         std::set<size_t> rows;  // one change per row: two on one cell could cancel out
         while (rows.size() < 1 + rng() % 3) rows.insert(1 + rng() % (lines.size() - 1));
         for (const size_t row : rows) {
@@ -149,6 +150,7 @@ TEST_CASE("every change beyond the tolerance is found at its tick, with every ag
             cells[column] = fixed4(std::strtod(cells[column].c_str(), nullptr) + delta);
             changed[row] = row_of(cells);
             at[std::stol(cells[1])].insert(cells[2]);
+            moved[{std::stol(cells[1]), cells[2]}] = column != 7;
         }
         Pair pair;
         pair.write({joined(lines), ""}, {joined(changed), ""});
@@ -162,6 +164,12 @@ TEST_CASE("every change beyond the tolerance is found at its tick, with every ag
             CHECK_FALSE(d.equal);
             CHECK(d.first_tick == at.begin()->first);
             CHECK(std::set<std::string>(d.vehicles.begin(), d.vehicles.end()) == at.begin()->second);
+            // The detail is of the first agent (by name) there, and names what differs only.
+            const std::string& first = *at.begin()->second.begin();
+            const bool position = moved.at({at.begin()->first, first});
+            CHECK(d.detail.rfind(first + ":", 0) == 0);
+            CHECK((d.detail.find("position differs") != std::string::npos) == position);
+            CHECK((d.detail.find("speed") != std::string::npos) == !position);
             check_json(d);
         }
     }
