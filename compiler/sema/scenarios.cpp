@@ -255,7 +255,8 @@ ir::Vehicle Checker::check_vehicle(const ast::VehicleDecl& v, ScenarioCtx& ctx,
         auto r = setting_number(*s, 0, dim, lo, hi, excl);
         return r.value_or(fallback);
     };
-    out.speed = num(set["speed"], Dim::speed, 0, v.is_pedestrian ? 10 : 100, false, 0.0);
+    out.speed = num(set["speed"], Dim::speed, 0, v.is_pedestrian ? catalog::kMaxPedestrianSpeed : catalog::kMaxVehicleSpeed,
+                    false, 0.0);
     // A pedestrian is a disc of the larger of its length and width (Euro NCAP's adult target is
     // 0.5 m × 0.6 m; the reference's pedestrian radius is 0.27 m).
     const catalog::AgentSize max = v.is_pedestrian ? catalog::kMaxPedestrianSize

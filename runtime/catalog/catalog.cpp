@@ -98,7 +98,7 @@ ParamDef sets(ConfigField field, ParamDef p) {
     return p;
 }
 
-constexpr double kMaxSpeed = 100.0;     // m/s: 360 km/h, beyond any road vehicle
+constexpr double kMaxSpeed = kMaxVehicleSpeed;
 constexpr double kMaxDuration = 60.0;   // s: a single maneuver plan
 constexpr double kMaxDistance = 10000;  // m
 constexpr double kMaxAcc = 50.0;        // m/s²
@@ -184,7 +184,7 @@ ManeuverDef make_maneuver(std::string name, ManeuverKind kind, std::string doc, 
     return m;
 }
 
-constexpr double kMaxWalkSpeed = 10.0;  // m/s: a sprint
+constexpr double kMaxWalkSpeed = kMaxPedestrianSpeed;
 
 // Pedestrian maneuvers set the walker's intent (where to, how fast); they have no planner
 // parameters. Each is SUCCESS when it could set its intent, FAILURE when it has nothing to act on.

@@ -43,6 +43,11 @@ inline constexpr AgentSize kMaxVehicleSize{30, 5};     // a vehicle: up to a lon
 inline constexpr AgentSize kMaxPedestrianSize{2, 2};   // a pedestrian: a disc of the larger of the two
 inline constexpr AgentSize kMaxObjectSize{100, 5};     // a static object: a long barrier, a parked convoy
 
+// An agent's speed, as a scenario may state it (a vehicle's or pedestrian's `speed`, a
+// maneuver's target speed) and the readers of recorded traffic take a vehicle's.
+inline constexpr double kMaxVehicleSpeed = 100;   // m/s: 360 km/h, beyond any road vehicle
+inline constexpr double kMaxPedestrianSpeed = 10;  // m/s: a sprint
+
 // Values a scenario states outside the parameters below, as the checker accepts them and the
 // GeoScenario converter writes them: a time (a timeout, a light phase or offset, a waypoint's
 // time) up to a day; a waypoint's or path point's speed, 0 to 100 m/s; a map origin's altitude.

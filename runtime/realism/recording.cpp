@@ -156,7 +156,7 @@ Recording parse_commonroad(const std::string& xml, const std::string& path) {
                 ok = false;
                 return;
             }
-            const double t = *step * r.dt;
+            const double t = *step * r.dt, v = speed.value_or(0);
             if (std::fabs(*x) > kMaxCoordinate || std::fabs(*y) > kMaxCoordinate || t < 0 || t > kMaxTime) {
                 r.errors.push_back(at(s) + "obstacle " + tr.id + ": a state beyond the limits (1,000 km, 10^6 s)");
                 ok = false;
@@ -167,12 +167,20 @@ Recording parse_commonroad(const std::string& xml, const std::string& path) {
                 ok = false;
                 return;
             }
+            // A replay starts its SDV at the recorded speed, so a vehicle's is a speed a scenario's
+            // vehicle may have (sdv replays vehicles driving forwards).
+            if (!tr.pedestrian() && !(v >= 0 && v <= catalog::kMaxVehicleSpeed)) {
+                r.errors.push_back(at(s) + "obstacle " + tr.id + ": velocity " + format_number(v) +
+                                   " m/s is not a vehicle's speed, 0 to " + format_number(catalog::kMaxVehicleSpeed) + " m/s");
+                ok = false;
+                return;
+            }
             if (tr.states.size() >= kMaxStates) {
                 r.errors.push_back(at(s) + "obstacle " + tr.id + ": more than " + std::to_string(kMaxStates) + " states");
                 ok = false;
                 return;
             }
-            tr.states.push_back({t, *x, *y, *heading, *speed});
+            tr.states.push_back({t, *x, *y, *heading, v});
         };
         const auto init = o.child("initialState");
         if (!init) {
@@ -339,6 +347,12 @@ Recording parse_interaction(const std::string& csv, const std::string& path) {
         s.x = *x;
         s.y = *y;
         s.speed = std::hypot(*vx, *vy);
+        if (!tr.pedestrian() && s.speed > catalog::kMaxVehicleSpeed) {
+            r.errors.push_back(where + "track " + id + ": speed " + format_number(s.speed) + " m/s (vx, vy) is not a vehicle's, 0 to " +
+                               format_number(catalog::kMaxVehicleSpeed) + " m/s");
+            if (r.errors.size() >= 20) return r;
+            continue;
+        }
         const auto psi = num("psi_rad");
         s.heading = psi ? *psi : (s.speed > 0.1 ? std::atan2(*vy, *vx) : tr.states.empty() ? 0 : tr.states.back().heading);
         if (!tr.states.empty() && s.t <= tr.states.back().t) {

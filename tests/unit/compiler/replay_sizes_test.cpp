@@ -4,9 +4,11 @@
 // and its replay did not compile (E0301). Property: the first car of a real recording, resized
 // to lengths and widths around the limits, as a rectangle or a circle, is either refused with a
 // message naming it, or replays (as the SDV and as a recorded trajectory) to a scenario that
-// compiles without errors. The same for INTERACTION tracks on a built road.
+// compiles without errors. The same for INTERACTION tracks on a built road, and for a vehicle's
+// recorded speed (finding 31, the last test).
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -151,6 +153,66 @@ TEST_CASE("an INTERACTION track the reader accepts replays to a scenario that co
             } else {
                 check_replays(rec, built.network, "1");
             }
+        }
+    }
+}
+
+// Finding 31: a CommonRoad car whose initial velocity read 1660.21 m/s (a real recording with a
+// few bytes mutated) was accepted, and its replay as the SDV started at that speed, which the
+// checker refuses (E0301: a vehicle's speed is 0 to 100 m/s). A vehicle's recorded speed is one
+// a scenario's vehicle may have (catalog::kMaxVehicleSpeed), or the reader refuses it, naming
+// the obstacle; INTERACTION's (vx, vy) alike.
+TEST_CASE("a recorded vehicle's speed is one a scenario's vehicle may start with, or the reader refuses it") {
+    const std::string text = read(kFile);
+    auto net = road::parse_commonroad(text);
+    REQUIRE(net.network);
+    net.network->prepare();
+    const size_t obstacle = text.find("<obstacle id=\"363\">");
+    REQUIRE(obstacle != std::string::npos);
+    const size_t begin = text.find("<exact>", text.find("<velocity>", obstacle)) + 7;
+    const size_t end = text.find("</exact>", begin);
+    const double max = catalog::kMaxVehicleSpeed;
+    for (const double v : {0.0, 12.5, max - 1e-3, max, max + 1e-3, 1660.21, -0.5, 1e9}) {
+        CAPTURE(v);
+        std::string t = text;
+        t.replace(begin, end - begin, std::to_string(v));
+        auto rec = realism::parse_commonroad(t, kFile);
+        rec.map_path = kFile;
+        if (!(v >= 0 && v <= max)) {
+            REQUIRE(rec.errors.size() == 1);
+            CHECK(rec.errors[0].find("obstacle 363: velocity ") != std::string::npos);
+            CHECK(rec.errors[0].find(" m/s is not a vehicle's speed, 0 to 100 m/s") != std::string::npos);
+            continue;
+        }
+        REQUIRE(rec.errors.empty());
+        check_replays(rec, *net.network, "363");
+    }
+
+    road::RoadSpec spec;
+    spec.name = "r";
+    spec.segments.push_back({road::Segment::straight, 200, 0});
+    auto built = road::build_road(spec);
+    REQUIRE(built.errors.empty());
+    built.network.prepare();
+    for (const double vx : {10.0, 70.0, max - 1e-3, max + 1e-3, 141.0, 999.0}) {
+        for (const double vy : {0.0, 70.0}) {
+            CAPTURE(vx);
+            CAPTURE(vy);
+            std::string csv = "track_id,frame_id,timestamp_ms,agent_type,x,y,vx,vy,psi_rad,length,width\n";
+            for (int k = 0; k < 10; ++k) {
+                csv += "1," + std::to_string(k) + "," + std::to_string(100 * k) + ",car," + std::to_string(20 + k) + ",-1.75," +
+                       std::to_string(vx) + "," + std::to_string(vy) + ",0,4.5,1.8\n";
+            }
+            auto rec = realism::parse_interaction(csv, "t.csv");
+            rec.map_path = kFile;
+            if (std::hypot(vx, vy) > max) {
+                REQUIRE(!rec.errors.empty());
+                CHECK(rec.errors[0].find("t.csv:2: track 1: speed ") == 0);
+                CHECK(rec.errors[0].find(" m/s (vx, vy) is not a vehicle's, 0 to 100 m/s") != std::string::npos);
+                continue;
+            }
+            REQUIRE(rec.errors.empty());
+            check_replays(rec, built.network, "1");
         }
     }
 }
