@@ -71,6 +71,17 @@ std::vector<Size> sizes(const catalog::AgentSize& max) {
     return out;
 }
 
+// A straight road of 200 m, for INTERACTION tracks (their map is not read).
+road::BuildResult straight_road() {
+    road::RoadSpec spec;
+    spec.name = "r";
+    spec.segments.push_back({road::Segment::straight, 200, 0});
+    auto built = road::build_road(spec);
+    REQUIRE(built.errors.empty());
+    built.network.prepare();
+    return built;
+}
+
 }  // namespace
 
 TEST_CASE("a CommonRoad agent the reader accepts replays to a scenario that compiles, at every size") {
@@ -116,12 +127,7 @@ TEST_CASE("a CommonRoad agent the reader accepts replays to a scenario that comp
 }
 
 TEST_CASE("an INTERACTION track the reader accepts replays to a scenario that compiles, at every size") {
-    road::RoadSpec spec;
-    spec.name = "r";
-    spec.segments.push_back({road::Segment::straight, 200, 0});
-    auto built = road::build_road(spec);
-    REQUIRE(built.errors.empty());
-    built.network.prepare();
+    const road::BuildResult built = straight_road();
     for (const bool pedestrian : {false, true}) {
         const catalog::AgentSize max = pedestrian ? catalog::kMaxPedestrianSize : catalog::kMaxVehicleSize;
         for (const Size s : sizes(max)) {
@@ -188,12 +194,7 @@ TEST_CASE("a recorded vehicle's speed is one a scenario's vehicle may start with
         check_replays(rec, *net.network, "363");
     }
 
-    road::RoadSpec spec;
-    spec.name = "r";
-    spec.segments.push_back({road::Segment::straight, 200, 0});
-    auto built = road::build_road(spec);
-    REQUIRE(built.errors.empty());
-    built.network.prepare();
+    const road::BuildResult built = straight_road();
     for (const double vx : {10.0, 70.0, max - 1e-3, max + 1e-3, 141.0, 999.0}) {
         for (const double vy : {0.0, 70.0}) {
             CAPTURE(vx);
