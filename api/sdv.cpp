@@ -60,7 +60,7 @@ std::shared_ptr<const sdv::ir::Program> load(const std::string& path, std::strin
         c = compiler::compile_file(path, sm, diags, {});
     }
     if (diags.has_errors() || !c.program) {
-        error = diag::render_all_text(diags.sorted(), sm);
+        error = diag::render_all_text(diags, sm);
         if (error.empty()) error = "cannot load '" + path + "'";
         return nullptr;
     }

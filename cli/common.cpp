@@ -94,11 +94,10 @@ compiler::Compilation compile_input(const std::string& file, const Common& c, di
 
 // Prints diagnostics (text to stderr, JSON to stdout) and returns whether there were errors.
 bool report(diag::DiagnosticEngine& diags, const diag::SourceManager& sm, const Common& c) {
-    const auto all = diags.sorted();
     if (c.format == "json") {
-        std::cout << diag::render_all_json(all, sm) << "\n";
-    } else if (!all.empty()) {
-        std::cerr << diag::render_all_text(all, sm);
+        std::cout << diag::render_all_json(diags, sm) << "\n";
+    } else {
+        std::cerr << diag::render_all_text(diags, sm);
     }
     return diags.has_errors();
 }

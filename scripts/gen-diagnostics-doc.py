@@ -200,8 +200,10 @@ ENTRIES = {
               "condition without a distance or time, or a tree that never selects a maneuver."),
     "W0001": ("too many warnings",
               "After 100 warnings in one compilation the rest are counted, not shown: this note "
-              "(severity `note`, no location) gives their number, and the warning count (the "
-              "summary of `sdv lint` on a terminal) includes them. A warning promoted to an error "
+              "(severity `note`, no location) gives their number, and the warning counts include "
+              "them: the summary line (\"103 warnings generated.\" after 100 listed), the "
+              "`\"warnings\"` field of `--format json` (its `diagnostics` array lists the 100) and "
+              "the summary of `sdv lint` on a terminal. A warning promoted to an error "
               "(`-Werror`) counts towards the 100 errors of E0007 instead. Silence a kind with "
               "`-Wno-NAME`, or fix the first ones and run again."),
     "W0101": ("unused-tree", "A tree of the main file is used by no scenario (only when the file has a scenario)."),
@@ -239,7 +241,10 @@ def render():
            "(.btree trees, .osm scenarios), `W01xx` and `W09xx` warnings, `W0001` the note "
            "that warnings were left out. Warnings "
            "are named; `-Wno-NAME` silences one, `-Werror=NAME` promotes one, `-Werror` all. "
-           "`--format json` prints the same diagnostics as JSON.", ""]
+           "`--format json` prints the same diagnostics as JSON: "
+           "`{\"diagnostics\": [...], \"errors\": N, \"warnings\": M}`, each diagnostic with its "
+           "`severity`, `code`, `name` (warnings), `message`, `file`, `line`, `column`, `end_line` "
+           "and `end_column` (when it has a location) and `notes`; N and M are the counts of the summary line.", ""]
     for code, (title, text) in ENTRIES.items():
         out += [f"## {code}: {title}", "", text, ""]
         cases = sorted(GOLDEN.glob(code + "_*"))

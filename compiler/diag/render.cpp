@@ -109,24 +109,54 @@ std::string render_text(const Diagnostic& d, const SourceManager& sm) {
     return out;
 }
 
-std::string render_all_text(const std::vector<Diagnostic>& ds, const SourceManager& sm) {
-    std::string out;
-    size_t errors = 0, warnings = 0;
+namespace {
+
+struct Counts {
+    size_t errors = 0;
+    size_t warnings = 0;
+};
+
+Counts count(const std::vector<Diagnostic>& ds) {
+    Counts n;
     for (const auto& d : ds) {
-        out += render_text(d, sm);
-        errors += d.severity == Severity::error;
-        warnings += d.severity == Severity::warning;
+        n.errors += d.severity == Severity::error;
+        n.warnings += d.severity == Severity::warning;
     }
-    if (errors + warnings > 0) {
+    return n;
+}
+
+std::string all_text(const std::vector<Diagnostic>& ds, Counts n, const SourceManager& sm) {
+    std::string out;
+    for (const auto& d : ds) out += render_text(d, sm);
+    if (n.errors + n.warnings > 0) {
         std::string summary;
-        if (errors) summary = std::to_string(errors) + (errors == 1 ? " error" : " errors");
-        if (warnings) {
-            summary += (summary.empty() ? "" : ", ") + std::to_string(warnings) +
-                       (warnings == 1 ? " warning" : " warnings");
+        if (n.errors) summary = std::to_string(n.errors) + (n.errors == 1 ? " error" : " errors");
+        if (n.warnings) {
+            summary += (summary.empty() ? "" : ", ") + std::to_string(n.warnings) +
+                       (n.warnings == 1 ? " warning" : " warnings");
         }
         out += summary + " generated.\n";
     }
     return out;
+}
+
+std::string all_json(const std::vector<Diagnostic>& ds, Counts n, const SourceManager& sm) {
+    nlohmann::ordered_json j;
+    j["diagnostics"] = nlohmann::ordered_json::array();
+    for (const auto& d : ds) j["diagnostics"].push_back(to_json(d, sm));
+    j["errors"] = n.errors;
+    j["warnings"] = n.warnings;
+    return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);  // a message may quote invalid UTF-8 from a file
+}
+
+}  // namespace
+
+std::string render_all_text(const DiagnosticEngine& diags, const SourceManager& sm) {
+    return all_text(diags.sorted(), {diags.error_count(), diags.warning_count()}, sm);
+}
+
+std::string render_all_text(const std::vector<Diagnostic>& ds, const SourceManager& sm) {
+    return all_text(ds, count(ds), sm);
 }
 
 nlohmann::ordered_json to_json(const Diagnostic& d, const SourceManager& sm) {
@@ -159,18 +189,12 @@ nlohmann::ordered_json to_json(const Diagnostic& d, const SourceManager& sm) {
     return j;
 }
 
+std::string render_all_json(const DiagnosticEngine& diags, const SourceManager& sm) {
+    return all_json(diags.sorted(), {diags.error_count(), diags.warning_count()}, sm);
+}
+
 std::string render_all_json(const std::vector<Diagnostic>& ds, const SourceManager& sm) {
-    nlohmann::ordered_json j;
-    j["diagnostics"] = nlohmann::ordered_json::array();
-    size_t errors = 0, warnings = 0;
-    for (const auto& d : ds) {
-        j["diagnostics"].push_back(to_json(d, sm));
-        errors += d.severity == Severity::error;
-        warnings += d.severity == Severity::warning;
-    }
-    j["errors"] = errors;
-    j["warnings"] = warnings;
-    return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);  // a message may quote invalid UTF-8 from a file
+    return all_json(ds, count(ds), sm);
 }
 
 }  // namespace sdv::diag

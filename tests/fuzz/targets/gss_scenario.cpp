@@ -118,8 +118,7 @@ int sdv_fuzz_gss_scenario(const uint8_t* data, size_t size) {
         if (result.program && !diags.has_errors()) check_no_injection(path, text, *result.program);
         (void)compiler::syntax::format(sm.add_file(display, converted->text), sm, diags);
     }
-    const auto all = diags.sorted();
-    (void)diag::render_all_text(all, sm);
-    (void)diag::render_all_json(all, sm);
+    (void)diag::render_all_text(diags, sm);
+    (void)diag::render_all_json(diags, sm);
     return 0;
 }

@@ -39,7 +39,7 @@ Result convert(const fs::path& scenario, std::vector<std::string> btree_path = {
     const compiler::gss::ConvertOptions options{std::move(btree_path), {}, ""};
     Result r;
     r.converted = compiler::gss::convert_geoscenario(scenario.string(), options, sm, diags);
-    r.diagnostics = diag::render_all_text(diags.sorted(), sm);
+    r.diagnostics = diag::render_all_text(diags, sm);
     if (diags.has_errors()) r.converted.reset();
     return r;
 }

@@ -25,7 +25,7 @@ std::unique_ptr<Result> compile(const std::string& src, const std::string& path 
     auto r = std::make_unique<Result>();
     r->diags = std::make_unique<diag::DiagnosticEngine>();
     r->comp = compiler::compile_source(path, src, r->sm, *r->diags);
-    r->text = diag::render_all_text(r->diags->sorted(), r->sm);
+    r->text = diag::render_all_text(*r->diags, r->sm);
     return r;
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "compiler/diag/diagnostic_engine.h"
+#include "compiler/diag/render.h"
 
 using namespace sdv::diag;
 
@@ -145,6 +146,29 @@ TEST_CASE("the engine applies the policy and the limits as the reference model d
             CHECK(got[k].severity == Severity::note);
             CHECK(!got[k].range.valid());
             CHECK(got[k].message.rfind(std::to_string(want.unshown) + " more warning", 0) == 0);
+        }
+
+        // What sdv prints: the listed diagnostics, and counts that include the unlisted
+        // warnings (a tool reading "warnings" learns how many there were).
+        SourceManager sm;
+        REQUIRE(sm.add_file("t.sdv", std::string(1000, 'x') + "\n") == 1);
+        const auto json = nlohmann::json::parse(render_all_json(diags, sm));
+        CHECK(json["diagnostics"].size() == got.size());
+        CHECK(json["errors"] == want.errors);
+        CHECK(json["warnings"] == want.warnings);
+        const std::string text = render_all_text(diags, sm);
+        std::string summary;
+        if (want.errors) summary = std::to_string(want.errors) + (want.errors == 1 ? " error" : " errors");
+        if (want.warnings) {
+            summary += (summary.empty() ? "" : ", ") + std::to_string(want.warnings) +
+                       (want.warnings == 1 ? " warning" : " warnings");
+        }
+        if (summary.empty()) {
+            CHECK(text.find("generated.") == std::string::npos);
+        } else {
+            const std::string tail = summary + " generated.\n";
+            REQUIRE(text.size() >= tail.size());
+            CHECK(text.substr(text.size() - tail.size()) == tail);
         }
     }
 }

@@ -86,7 +86,7 @@ Outcome run_format(const std::string& text) {
     diag::DiagnosticEngine diags;
     const auto id = sm.add_file("m.sdv", text);
     auto formatted = compiler::syntax::format(id, sm, diags);
-    return {formatted.has_value(), formatted ? "" : diag::render_all_text(diags.sorted(), sm),
+    return {formatted.has_value(), formatted ? "" : diag::render_all_text(diags, sm),
             formatted.value_or("")};
 }
 
@@ -95,7 +95,7 @@ Outcome run_parse(const std::string& text) {
     diag::DiagnosticEngine diags;
     const auto id = sm.add_file("m.sdv", text);
     const bool ok = compiler::syntax::parse(id, sm, diags) != nullptr;
-    return {ok, ok ? "" : diag::render_all_text(diags.sorted(), sm), ""};
+    return {ok, ok ? "" : diag::render_all_text(diags, sm), ""};
 }
 
 }  // namespace
