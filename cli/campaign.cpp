@@ -179,8 +179,15 @@ int sweep_on_slurm(const Loaded& l, const SweepArgs& a, const campaign::SweepOpt
 }  // namespace
 
 int cmd_sweep(const SweepArgs& a, const Common& c, const WarningFlags& w) {
+    // The scenario is compiled from its absolute path, with absolute import directories, as the
+    // Slurm tasks compile it (sweep_on_slurm): the program's file names are part of the IR hash
+    // that ties rows to their campaign, and they appear in the rows' error messages, so a resume
+    // or merge from any directory, naming the file any way, meets the same campaign and writes
+    // the same bytes.
+    Common abs = c;
+    for (auto& d : abs.import_dirs) d = absolute(d);
     Loaded l;
-    if (const int e = load_scenario(a.file, a.scenario, c, w, l); e != kOk) return e;
+    if (const int e = load_scenario(absolute(a.file), a.scenario, abs, w, l); e != kOk) return e;
     if (const int e = check_campaign(l, a.file); e != kOk) return e;
     const ir::Scenario& sc = l.program.scenarios[static_cast<size_t>(l.index)];
     campaign::SweepOptions o;
@@ -220,6 +227,11 @@ int cmd_sweep(const SweepArgs& a, const Common& c, const WarningFlags& w) {
     if (!outcome.error.empty()) {
         std::cerr << "sdv: error: " << outcome.error << "\n";
         return kFailure;
+    }
+    if (outcome.damaged > 0) {
+        std::cerr << "sdv: warning: " << outcome.damaged << (outcome.damaged == 1 ? " line" : " lines") << " of "
+                  << o.dir << "/rows " << (outcome.damaged == 1 ? "is not a row" : "are not rows")
+                  << " as sdv writes them; they were skipped, and a variant without a row ran again (first: " << outcome.damage << ")\n";
     }
     {
         const double rate = outcome.wall_s > 0 ? static_cast<double>(outcome.ran) / outcome.wall_s : 0;

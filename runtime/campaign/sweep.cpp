@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -25,6 +26,7 @@
 #include "runtime/io/junit.h"
 #include "runtime/io/outputs.h"
 #include "runtime/io/recorder.h"
+#include "runtime/io/text.h"
 #include "runtime/io/view.h"
 #include "runtime/ir/bindings.h"
 #include "runtime/ir/ir_io.h"
@@ -137,22 +139,74 @@ bool write_atomic(const std::string& path, const std::string& text) {
     return false;
 }
 
-// The complete rows in `text` (lines ending in '\n' whose first cell is a variant index);
-// a torn last line, from a sweep killed while writing, is dropped.
-void complete_rows(const std::string& text, size_t columns, std::map<int64_t, std::string>& out) {
-    size_t at = 0;
-    std::vector<std::string> cells;
+// A whole cell as a count: decimal digits, at most 18 of them, no leading zero.
+bool parse_count(const std::string& cell, int64_t& v) {
+    if (cell.empty() || cell.size() > 18 || (cell.size() > 1 && cell[0] == '0')) return false;
+    const auto [p, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), v);
+    return ec == std::errc() && p == cell.data() + cell.size() && v >= 0;
+}
+
+std::string cell_shown(const std::string& s) {
+    return "'" + (s.size() > 40 ? s.substr(0, 40) + "..." : s) + "'";
+}
+
+// The value cell of parameter `k` as `row` writes it.
+std::string param_text(const ir::Scenario& s, size_t k, double v) {
+    return s.vary.params[k].integer ? std::to_string(std::llround(v)) : num(v);
+}
+
+bool read_row_of(const ir::Scenario& s, const std::vector<std::string>& cols, const VariantSpace& space,
+                 const std::string& line, Row& out, std::string& why);
+
+// What a sweep found in the rows already in its directory.
+struct ReadRow {
+    Row row;
+    std::string line;
+};
+struct RowDamage {
+    int64_t rows = 0;
+    std::string first;  // "FILE:LINE: why"
+};
+
+// The rows of one rows/*.csv file (`text`, named `name` in messages) that read back as sdv
+// writes them, by variant (the first row of a variant is kept). A torn last line, from a sweep
+// killed while writing, is dropped; every other line that is not a row of this campaign counts
+// in `damage`, so its variant runs again on a resume.
+void read_rows(const ir::Scenario& s, const VariantSpace& space, const std::string& text, const std::string& name,
+               std::map<int64_t, ReadRow>& out, RowDamage& damage) {
+    const auto cols = columns(s);
+    size_t at = 0, line_no = 0;
     while (at < text.size()) {
         const size_t nl = text.find('\n', at);
         if (nl == std::string::npos) break;
+        ++line_no;
         std::string line = text.substr(at, nl - at);
         at = nl + 1;
-        if (line.empty() || line.rfind("variant,", 0) == 0) continue;
-        if (!split_csv(line, cells) || cells.size() != columns) continue;
-        char* end = nullptr;
-        const long long v = std::strtoll(cells[0].c_str(), &end, 10);
-        if (end == cells[0].c_str() || *end != '\0' || v < 0) continue;
-        out.emplace(v, std::move(line));
+        if (line.empty()) continue;
+        Row r;
+        std::string why;
+        if (!read_row_of(s, cols, space, line, r, why)) {
+            if (damage.rows++ == 0) damage.first = name + ":" + std::to_string(line_no) + ": " + why;
+            continue;
+        }
+        const int64_t v = r.variant;
+        if (!out.count(v)) out.emplace(v, ReadRow{std::move(r), std::move(line)});
+    }
+}
+
+// Every row in DIR/rows, the files read in name order.
+void read_dir_rows(const ir::Scenario& s, const VariantSpace& space, const std::string& dir,
+                   std::map<int64_t, ReadRow>& out, RowDamage& damage) {
+    std::vector<std::string> files;
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(dir + "/rows", ec)) {
+        if (entry.path().extension() == ".csv") files.push_back(entry.path().filename().string());
+    }
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) {
+        bool ok = false;
+        const std::string path = dir + "/rows/" + f;
+        read_rows(s, space, read_text(path, ok), path, out, damage);
     }
 }
 
@@ -193,35 +247,154 @@ std::vector<std::string> columns(const ir::Scenario& s) {
     return out;
 }
 
-std::string row(const ir::Scenario& s, int64_t index, const std::vector<double>& values, const sim::RunResult& r) {
-    std::string out = std::to_string(index);
-    for (size_t k = 0; k < values.size(); ++k) {
-        out += "," + (s.vary.params[k].integer ? std::to_string(std::llround(values[k])) : num(values[k]));
-    }
-    const bool ok = r.error.empty();
-    out += std::string(",") + (r.passed() ? "1" : "0") + "," + csv_quote(r.error);
-    if (!ok) {
-        out += ",,,,,,";
-        for (size_t k = 0; k < s.expect_roots.size(); ++k) out += ",,0";
-        return out;
-    }
-    int collisions = 0;
-    for (const auto& e : r.events) collisions += e.kind == "collision" ? 1 : 0;
+Row run_row(const ir::Scenario& s, int64_t index, const std::vector<double>& values, const sim::RunResult& r) {
+    Row out;
+    out.variant = index;
+    out.values = values;
+    out.passed = r.passed();
+    out.error = r.error;
+    out.expect_values.assign(s.expect_roots.size(), std::nullopt);
+    out.expect_passed.assign(s.expect_roots.size(), false);
+    if (!r.error.empty()) return out;
+    for (const auto& e : r.events) out.collisions += e.kind == "collision" ? 1 : 0;
     const PairMins m = pair_mins(s, r);
+    auto finite = [](double v) { return std::isfinite(v) ? std::optional<double>(v) : std::nullopt; };
+    out.min_ttc = finite(m.ttc);
+    out.min_gap = finite(m.gap);
+    out.min_clearance = finite(m.clearance);
     long long plans = 0, fallback = 0;
     for (const auto& v : r.vehicles) {
         plans += v.plans;
         fallback += v.fallback_plans;
     }
-    out += "," + std::to_string(collisions) + "," + num(m.ttc) + "," + num(m.gap) + "," + num(m.clearance) + "," +
-           num(plans > 0 ? static_cast<double>(fallback) / static_cast<double>(plans) : 0.0) + "," + num(r.duration);
-    for (size_t k = 0; k < s.expect_roots.size(); ++k) {
-        const sim::ExpectResult* e = k < r.expectations.size() ? &r.expectations[k] : nullptr;
-        out += "," + (e != nullptr && e->value ? num(*e->value) : std::string()) + "," +
-               (e != nullptr && e->passed ? "1" : "0");
+    out.fallback_share = plans > 0 ? static_cast<double>(fallback) / static_cast<double>(plans) : 0.0;
+    out.duration = r.duration;
+    for (size_t k = 0; k < s.expect_roots.size() && k < r.expectations.size(); ++k) {
+        const sim::ExpectResult& e = r.expectations[k];
+        if (e.value) out.expect_values[k] = finite(*e.value);
+        out.expect_passed[k] = e.passed;
     }
     return out;
 }
+
+std::string row_text(const ir::Scenario& s, const Row& r) {
+    auto opt = [](const std::optional<double>& v) { return v ? num(*v) : std::string(); };
+    std::string out = std::to_string(r.variant);
+    for (size_t k = 0; k < r.values.size(); ++k) out += "," + param_text(s, k, r.values[k]);
+    out += std::string(",") + (r.passed ? "1" : "0") + "," + csv_quote(r.error);
+    if (!r.error.empty()) {
+        out += ",,,,,,";
+        for (size_t k = 0; k < s.expect_roots.size(); ++k) out += ",,0";
+        return out;
+    }
+    out += "," + std::to_string(r.collisions) + "," + opt(r.min_ttc) + "," + opt(r.min_gap) + "," +
+           opt(r.min_clearance) + "," + num(r.fallback_share) + "," + num(r.duration);
+    for (size_t k = 0; k < s.expect_roots.size(); ++k) {
+        out += "," + (k < r.expect_values.size() ? opt(r.expect_values[k]) : std::string()) + "," +
+               (k < r.expect_passed.size() && r.expect_passed[k] ? "1" : "0");
+    }
+    return out;
+}
+
+std::string row(const ir::Scenario& s, int64_t index, const std::vector<double>& values, const sim::RunResult& r) {
+    return row_text(s, run_row(s, index, values, r));
+}
+
+bool read_row(const ir::Scenario& s, const VariantSpace& space, const std::string& line, Row& out,
+              std::string& why) {
+    return read_row_of(s, columns(s), space, line, out, why);
+}
+
+namespace {
+
+bool read_row_of(const ir::Scenario& s, const std::vector<std::string>& cols, const VariantSpace& space,
+                 const std::string& line, Row& out, std::string& why) {
+    std::vector<std::string> cells;
+    if (!split_csv(line, cells)) {
+        why = "a quote is not closed";
+        return false;
+    }
+    if (cells.size() != cols.size()) {
+        why = std::to_string(cells.size()) + " cells, not the campaign's " + std::to_string(cols.size());
+        return false;
+    }
+    size_t c = 0;
+    auto fail = [&](const std::string& what) {
+        why = "'" + cols[c] + "' " + cell_shown(cells[c]) + " " + what;
+        return false;
+    };
+    Row r;
+    if (!parse_count(cells[c], r.variant)) return fail("is not a variant index");
+    if (r.variant >= space.size()) {
+        return fail("is not a variant of this campaign (it has " + std::to_string(space.size()) + ")");
+    }
+    const std::vector<double> expected = space.values(r.variant);
+    for (size_t k = 0; k < s.vary.params.size(); ++k) {
+        ++c;
+        double v = 0;
+        if (!io::finite_number(cells[c], v)) return fail("is not a number");
+        const std::string want = param_text(s, k, expected[k]);
+        if (cells[c] != want) return fail("is not variant " + std::to_string(r.variant) + "'s value (" + want + ")");
+        r.values.push_back(v);
+    }
+    auto flag = [&](bool& f) {
+        if (cells[c] != "0" && cells[c] != "1") return fail("is not 1 or 0");
+        f = cells[c] == "1";
+        return true;
+    };
+    ++c;
+    if (!flag(r.passed)) return false;
+    r.error = cells[++c];
+    const bool failed_run = !r.error.empty();
+    r.expect_values.assign(s.expect_roots.size(), std::nullopt);
+    r.expect_passed.assign(s.expect_roots.size(), false);
+    auto measure = [&](std::optional<double>& v) {
+        if (cells[c].empty()) return true;
+        if (failed_run) return fail("is a measure of a run that did not run (its error is set)");
+        double x = 0;
+        if (!io::finite_number(cells[c], x)) return fail("is not a number");
+        v = x;
+        return true;
+    };
+    ++c;
+    if (failed_run) {
+        if (!cells[c].empty()) return fail("is a measure of a run that did not run (its error is set)");
+    } else {
+        int64_t n = 0;
+        if (!parse_count(cells[c], n) || n > 1000000000) return fail("is not a count");
+        r.collisions = static_cast<int>(n);
+    }
+    for (std::optional<double>* m : {&r.min_ttc, &r.min_gap, &r.min_clearance}) {
+        ++c;
+        if (!measure(*m)) return false;
+    }
+    for (double* m : {&r.fallback_share, &r.duration}) {
+        ++c;
+        std::optional<double> v;
+        if (!measure(v)) return false;
+        if (!failed_run && !v) return fail("is empty");
+        *m = v.value_or(0);
+    }
+    for (size_t k = 0; k < s.expect_roots.size(); ++k) {
+        ++c;
+        if (!measure(r.expect_values[k])) return false;
+        ++c;
+        bool passed = false;
+        if (!flag(passed)) return false;
+        r.expect_passed[k] = passed;
+    }
+    // Every cell read; what is left is the form: the row must be the very text sdv writes for it
+    // (no "1.0" for "1", no unquoted error), so a row read back writes back to the same bytes.
+    const std::string canonical = row_text(s, r);
+    if (canonical != line) {
+        why = "not the text sdv writes for this row (" + cell_shown(canonical) + ")";
+        return false;
+    }
+    out = std::move(r);
+    return true;
+}
+
+}  // namespace
 
 std::string clear_sweep(const std::string& dir) {
     std::error_code ec;
@@ -264,13 +437,11 @@ SweepOutcome run_sweep(const ir::Program& program, int scenario, const SweepOpti
         out.error = "cannot write '" + manifest_path + "'";
         return out;
     }
-    const auto cols = columns(sc);
-    std::map<int64_t, std::string> done;
-    for (const auto& entry : fs::directory_iterator(o.dir + "/rows", ec)) {
-        if (entry.path().extension() != ".csv") continue;
-        bool ok = false;
-        complete_rows(read_text(entry.path().string(), ok), cols.size(), done);
-    }
+    std::map<int64_t, ReadRow> done;
+    RowDamage damage;
+    read_dir_rows(sc, space, o.dir, done, damage);
+    out.damaged = damage.rows;
+    out.damage = damage.first;
     // Our own slice file: cut a torn last line, then append.
     const std::string own = slice_file(o.dir, o.slice, o.slices);
     {
@@ -298,11 +469,8 @@ SweepOutcome run_sweep(const ir::Program& program, int scenario, const SweepOpti
     std::atomic<size_t> next{0};
     std::mutex mu;
     int64_t finished = out.skipped, failed = 0;
-    for (const auto& [i, line] : done) {
-        if (i < begin || i >= end) continue;
-        std::vector<std::string> cells;
-        split_csv(line, cells);
-        failed += cells.size() > 1 + sc.vary.params.size() && cells[1 + sc.vary.params.size()] == "0" ? 1 : 0;
+    for (const auto& [i, read] : done) {
+        if (i >= begin && i < end && !read.row.passed) ++failed;
     }
     std::string first_error;
     auto run_one = [&](ir::Program& variant, int64_t i) {
@@ -410,13 +578,9 @@ std::string gather(const ir::Program& program, int scenario, const std::string& 
         return "the rows in '" + dir + "' belong to another campaign (a different scenario, vary block or sdv)";
     }
     out.header = columns(sc);
-    std::map<int64_t, std::string> rows;
-    std::error_code ec;
-    for (const auto& entry : fs::directory_iterator(dir + "/rows", ec)) {
-        if (entry.path().extension() != ".csv") continue;
-        bool ok = false;
-        complete_rows(read_text(entry.path().string(), ok), out.header.size(), rows);
-    }
+    std::map<int64_t, ReadRow> rows;
+    RowDamage damage;
+    read_dir_rows(sc, VariantSpace(sc.vary), dir, rows, damage);
     std::vector<int64_t> missing;
     for (int64_t i = 0; i < n && missing.size() < 6; ++i) {
         if (!rows.count(i)) missing.push_back(i);
@@ -425,36 +589,18 @@ std::string gather(const ir::Program& program, int scenario, const std::string& 
         std::string list;
         for (size_t k = 0; k < missing.size() && k < 5; ++k) list += (k ? ", " : "") + std::to_string(missing[k]);
         if (missing.size() > 5) list += ", ...";
-        return "the sweep in '" + dir + "' is incomplete: " + std::to_string(n - static_cast<int64_t>(rows.size())) +
-               " of " + std::to_string(n) + " variants have no row (" + list + "); run it again with --resume";
-    }
-    const size_t np = sc.vary.params.size();
-    std::vector<std::string> cells;
-    for (auto& [i, line] : rows) {
-        if (i >= n) continue;
-        split_csv(line, cells);
-        Row r;
-        r.variant = i;
-        auto opt = [](const std::string& c) -> std::optional<double> {
-            if (c.empty()) return std::nullopt;
-            return std::strtod(c.c_str(), nullptr);
-        };
-        for (size_t k = 0; k < np; ++k) r.values.push_back(std::strtod(cells[1 + k].c_str(), nullptr));
-        size_t c = 1 + np;
-        r.passed = cells[c++] == "1";
-        r.error = cells[c++];
-        r.collisions = std::atoi(cells[c++].c_str());
-        r.min_ttc = opt(cells[c++]);
-        r.min_gap = opt(cells[c++]);
-        r.min_clearance = opt(cells[c++]);
-        r.fallback_share = opt(cells[c++]).value_or(0);
-        r.duration = opt(cells[c++]).value_or(0);
-        for (size_t k = 0; k < sc.expect_roots.size(); ++k) {
-            r.expect_values.push_back(opt(cells[c++]));
-            r.expect_passed.push_back(cells[c++] == "1");
+        std::string damaged;
+        if (damage.rows > 0) {
+            damaged = "; " + std::to_string(damage.rows) + (damage.rows == 1 ? " row is" : " rows are") +
+                      " not as sdv writes them (first: " + damage.first + ")";
         }
-        out.rows.push_back(std::move(r));
-        out.lines.push_back(std::move(line));
+        return "the sweep in '" + dir + "' is incomplete: " + std::to_string(n - static_cast<int64_t>(rows.size())) +
+               " of " + std::to_string(n) + " variants have no row (" + list + ")" + damaged +
+               "; run it again with --resume";
+    }
+    for (auto& [i, read] : rows) {
+        out.rows.push_back(std::move(read.row));
+        out.lines.push_back(std::move(read.line));
     }
     return "";
 }

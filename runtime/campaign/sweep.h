@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "runtime/campaign/variants.h"
 #include "runtime/ir/ir.h"
 #include "runtime/sim/simulation.h"
 
@@ -40,13 +41,15 @@ struct SweepOutcome {
     int64_t variants = 0; // in the whole campaign
     int64_t ran = 0;      // by this call
     int64_t skipped = 0;  // already in DIR (resume)
+    int64_t damaged = 0;  // lines of DIR/rows that are not rows sdv wrote (their variants ran again)
+    std::string damage;   // the first of them: "FILE:LINE: why"
     double wall_s = 0;
 };
 
 // The results columns of a campaign's scenario (see docs/campaigns.md).
 std::vector<std::string> columns(const ir::Scenario& scenario);
 
-// The row of one variant's run.
+// The row of one variant's run (row_text of run_row).
 std::string row(const ir::Scenario& scenario, int64_t index, const std::vector<double>& values,
                 const sim::RunResult& result);
 
@@ -61,7 +64,8 @@ sim::RunResult run_kept(const ir::Program& variant, int scenario, const std::str
 // Clears what a previous sweep left in DIR (rows, runs, results), for a fresh start.
 std::string clear_sweep(const std::string& dir);
 
-// A parsed results row.
+// A results row. A run that did not run (`error` set) has no measures: its collisions,
+// fallback_share and duration are 0 and its optional values empty.
 struct Row {
     int64_t variant = 0;
     std::vector<double> values;  // parameters
@@ -73,6 +77,18 @@ struct Row {
     std::vector<std::optional<double>> expect_values;
     std::vector<bool> expect_passed;
 };
+
+// The row of one variant's run, and its text (the CSV line without its '\n'; numbers to 6
+// significant digits, the error quoted).
+Row run_row(const ir::Scenario& scenario, int64_t index, const std::vector<double>& values,
+            const sim::RunResult& result);
+std::string row_text(const ir::Scenario& scenario, const Row& row);
+
+// Reads a line of DIR/rows back: true only for the very text row_text writes for a variant of
+// `space` with that variant's parameter values; otherwise `why` says what is wrong with it
+// (which cell, what it holds). row_text(read) == line for every row read.
+bool read_row(const ir::Scenario& scenario, const VariantSpace& space, const std::string& line, Row& out,
+              std::string& why);
 
 struct Results {
     std::vector<std::string> header;

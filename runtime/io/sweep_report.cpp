@@ -128,15 +128,6 @@ bool parse_csv(std::string_view text, std::vector<Record>& out, std::string& err
     return true;
 }
 
-// A whole field as a finite number (no spaces, no '+', no hex).
-bool parse_number(const std::string& s, double& v) {
-    if (s.empty()) return false;
-    const char* b = s.data();
-    const char* e = b + s.size();
-    const auto [p, ec] = std::from_chars(b, e, v, std::chars_format::general);
-    return ec == std::errc() && p == e && std::isfinite(v);
-}
-
 // The shortest text that reads back as the same double (valid JSON).
 void put_number(std::string& out, double v) {
     char buf[40];
@@ -364,7 +355,7 @@ std::string report(const std::string& dir_text, std::string& error) {
                     break;
                 }
                 case Kind::Param:
-                    if (!parse_number(f.text, v))
+                    if (!finite_number(f.text, v))
                         return fail(in_quotes(f.text) + " is not a number");
                     put_number(o, v);
                     break;
@@ -387,7 +378,7 @@ std::string report(const std::string& dir_text, std::string& error) {
                 case Kind::Number:
                     if (f.text.empty())
                         o += "null";
-                    else if (!parse_number(f.text, v))
+                    else if (!finite_number(f.text, v))
                         return fail(in_quotes(f.text) +
                                     " is not a number (or empty when never measured)");
                     else

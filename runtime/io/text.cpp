@@ -1,5 +1,8 @@
 #include "runtime/io/text.h"
 
+#include <charconv>
+#include <cmath>
+
 #include "runtime/ir/utf8.h"
 
 namespace sdv::io {
@@ -36,6 +39,16 @@ std::string xml_text(std::string_view s) {
         }
     }
     return out;
+}
+
+bool finite_number(std::string_view cell, double& v) {
+    double x = 0;
+    const char* b = cell.data();
+    const char* e = b + cell.size();
+    const auto [p, ec] = std::from_chars(b, e, x, std::chars_format::general);
+    if (cell.empty() || ec != std::errc() || p != e || !std::isfinite(x)) return false;
+    v = x;
+    return true;
 }
 
 }  // namespace sdv::io

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Campaigns through the executable (docs/campaigns.md): a sweep's results are the same bytes for
 # any --jobs, from source and from IR, when run as slices and merged, and after a sweep killed
-# halfway (with a torn last row) is resumed; --keep failed keeps exactly the failed variants;
+# halfway (with a torn last row) is resumed, and when a row was damaged; --keep failed keeps exactly the failed variants;
 # `sdv run --variant K` reproduces row K; the JUnit XML of run and sweep has the structure CI
 # servers read; the search finds the known worst case of a scenario built for it, reproducibly,
 # and writes it as a scenario that compiles and measures that value.
@@ -39,12 +39,15 @@ grep -q "35 of 35 variants were done" "$tmp/sl.log" && pass "the merge ran nothi
 same "$tmp/j1/results.csv" "$tmp/sl/results.csv" "three slices merged give the same results.csv"
 same "$tmp/j1/summary.json" "$tmp/sl/summary.json" "three slices merged give the same summary.json"
 
-# ---- --slurm-script-only: the array script; its tasks' command lines, run here, then merged
-"$sdv" sweep "$table" -o "$tmp/script" --slurm --slurm-script-only --array-tasks 3 > "$tmp/script.log" 2>&1 || bad "--slurm-script-only"
+# ---- --slurm-script-only: the array script; its tasks' command lines, run here, then merged.
+# The scenario is named relative to the directory the script is written from, and the merge runs
+# from another directory naming it another way: the rows are one campaign whatever the path.
+(cd "$src/examples" && "$sdv" sweep sweeps/cut_in_table.sdv -o "$tmp/script" --slurm --slurm-script-only --array-tasks 3) > "$tmp/script.log" 2>&1 || bad "--slurm-script-only"
 sb=$tmp/script/slurm/sweep.sbatch
 if grep -q '^#SBATCH --array=0-2' "$sb" && grep -q -- '--slice' "$sb"; then pass "the script is a 3-task array running slices"; else bad "script"; cat "$sb"; fi
 for i in 0 1 2; do SLURM_ARRAY_TASK_ID=$i bash "$sb" > /dev/null 2>&1 || bad "task $i of the script"; done
-"$sdv" sweep "$table" -o "$tmp/script" --resume > /dev/null 2>&1
+(cd "$src" && "$sdv" sweep ./examples/../examples/sweeps/cut_in_table.sdv -o "$tmp/script" --resume) > "$tmp/merge.log" 2>&1
+grep -q "35 of 35 variants were done" "$tmp/merge.log" && pass "the merge from another directory ran nothing again" || { bad "merge log"; cat "$tmp/merge.log"; }
 same "$tmp/j1/results.csv" "$tmp/script/results.csv" "the script's tasks, then --resume, give the local sweep's results.csv"
 
 # ---- summary.json agrees with results.csv
@@ -90,6 +93,22 @@ grep -q "resumed: $done_rows of 300" "$tmp/resume.log" && pass "resume skipped t
 same "$tmp/full/results.csv" "$tmp/killed/results.csv" "results.csv after kill and resume identical to an uninterrupted sweep"
 same "$tmp/full/summary.json" "$tmp/killed/summary.json" "summary.json after kill and resume identical"
 "$sdv" sweep "$src/examples/cut_in.sdv" -o "$tmp/killed" --resume > "$tmp/other.log" 2>&1 && bad "resume of another scenario accepted" || pass "resume refuses the rows of another campaign"
+
+# ---- a damaged row is named, run again on a resume, and the results are as if undamaged
+cp -r "$tmp/j1" "$tmp/damaged"
+python3 - "$tmp/damaged/rows/slice-0-of-1.csv" "$tmp/j1/results.csv" <<'EOF'
+import sys
+rows, header = sys.argv[1], open(sys.argv[2]).readline().rstrip("\n").split(",")
+lines = open(rows).read().split("\n")
+cells = lines[2].split(",")
+cells[header.index("min_ttc[s]")] = "abc"
+lines[2] = ",".join(cells)
+open(rows, "w").write("\n".join(lines))
+EOF
+"$sdv" sweep "$table" -o "$tmp/damaged" --resume > "$tmp/damaged.log" 2>&1
+grep -q "warning: 1 line of $tmp/damaged/rows is not a row as sdv writes them; .*(first: $tmp/damaged/rows/slice-0-of-1.csv:3: 'min_ttc\[s\]' 'abc' is not a number)" "$tmp/damaged.log" &&
+    grep -q "resumed: 34 of 35" "$tmp/damaged.log" && pass "a damaged row is named and its variant runs again" || { bad "damaged row"; cat "$tmp/damaged.log"; }
+same "$tmp/j1/results.csv" "$tmp/damaged/results.csv" "results.csv after a damaged row and a resume identical"
 
 # ---- keep failed, run --variant
 "$sdv" sweep "$table" -o "$tmp/keep" --keep failed > /dev/null 2>&1

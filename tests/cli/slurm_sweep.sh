@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `sdv sweep --slurm` on a real Slurm cluster (issue 16): scripts/slurm-local.sh brings up a
 # single-node cluster on 127.0.0.1 (state in a temp dir; the EXIT trap always brings it down);
-# the sweep run locally (--jobs 2) and as one job array (--slurm --array-tasks 4) must give
+# the sweep run locally (--jobs 2) and as one job array (--slurm --array-tasks 4, the scenario
+# named by a relative path) must give
 # byte-identical results.csv and summary.json and the same exit code; `slurm-local.sh down` must
 # leave no process of the cluster (none of the recorded daemon pids, nothing with the state dir
 # in its command line). It runs in CI and never skips: without Slurm and munge it fails.
@@ -70,11 +71,13 @@ done
 
 # ---- the same sweep locally and as a job array
 t=$(now_ms)
-timeout 900 "$sdv" sweep "$scenario" -o "$tmp/A" --jobs 2 >"$tmp/A.log" 2>&1
+(cd "${scenario%/*}" && timeout 900 "$sdv" sweep "./${scenario##*/}" -o "$tmp/A" --jobs 2) >"$tmp/A.log" 2>&1
 code_a=$?
 echo "      local sweep: exit $code_a ($(took "$t"))"
 t=$(now_ms)
-timeout 900 "$sdv" sweep "$scenario" -o "$tmp/B" --slurm --array-tasks 4 >"$tmp/B.log" 2>&1
+# The scenario named relative to the working directory, as users do (summary.json names it so):
+# the tasks read it by its absolute path, and their rows must still be this sweep's campaign.
+(cd "${scenario%/*}" && timeout 900 "$sdv" sweep "./${scenario##*/}" -o "$tmp/B" --slurm --array-tasks 4) >"$tmp/B.log" 2>&1
 code_b=$?
 echo "      Slurm sweep: exit $code_b ($(took "$t"))"
 if [ $code_a -gt 1 ]; then bad "local sweep exit $code_a"; tail -n 20 "$tmp/A.log"; fi
