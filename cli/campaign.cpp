@@ -229,9 +229,11 @@ int cmd_sweep(const SweepArgs& a, const Common& c, const WarningFlags& w) {
         return kFailure;
     }
     if (outcome.damaged > 0) {
-        std::cerr << "sdv: warning: " << outcome.damaged << (outcome.damaged == 1 ? " line" : " lines") << " of "
-                  << o.dir << "/rows " << (outcome.damaged == 1 ? "is not a row" : "are not rows")
-                  << " as sdv writes them; they were skipped, and a variant without a row ran again (first: " << outcome.damage << ")\n";
+        const bool one = outcome.damaged == 1;
+        std::cerr << "sdv: warning: " << outcome.damaged << (one ? " line of " : " lines of ") << o.dir << "/rows "
+                  << (one ? "is not a row as sdv writes it; it was" : "are not rows as sdv writes them; they were")
+                  << " skipped, and every variant without a row ran again (" << (one ? "" : "first: ")
+                  << outcome.damage << ")\n";
     }
     {
         const double rate = outcome.wall_s > 0 ? static_cast<double>(outcome.ran) / outcome.wall_s : 0;

@@ -26,7 +26,8 @@ if [ "${SDV_SKIP_FUZZ:-0}" != 1 ]; then
     fuzz_start=$SECONDS
     scripts/fuzz-corpus.sh build/ci build/fuzz/corpus-ci >/dev/null
     rm -rf build/fuzz/ci-logs && mkdir -p build/fuzz/ci-logs
-    fuzz_targets=(sdv_frontend ir_reader btree gss_scenario lanelet2 cosim_frame sweep_results recording run_dir run_diff)
+    fuzz_targets=(sdv_frontend ir_reader btree gss_scenario lanelet2 cosim_frame sweep_results recording run_dir run_diff
+                  sweep_rows)
     fuzz_ok=1
     printf '%s\n' "${fuzz_targets[@]}" | xargs -P "$jobs" -I{} sh -c \
         'scripts/fuzz.sh {} --ci --corpus build/fuzz/corpus-ci > build/fuzz/ci-logs/{}.log 2>&1' || fuzz_ok=0

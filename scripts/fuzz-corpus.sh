@@ -6,8 +6,8 @@
 # library, the golden inputs, the third-party data of ../shared/data (GeoScenario trees and
 # scenarios, Lanelet2 maps and small maps cut from them), the deep and long seeds of
 # tests/fuzz/gen_deep.py and, when BUILD_DIR holds a built `sdv`, what it makes: the IR of every
-# example, recorded co-simulation sessions in both encodings and a sweep directory. Each seed is
-# named after where it came from. OUT_DIR is replaced.
+# example, recorded co-simulation sessions in both encodings, a sweep directory and the rows of a
+# sweep. Each seed is named after where it came from. OUT_DIR is replaced.
 set -euo pipefail
 shopt -s globstar nullglob
 if [ $# -ne 2 ]; then
@@ -18,7 +18,8 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=$(cd "$1" && pwd)
 out=$2
 shared=$root/../shared/data
-targets=(sdv_frontend ir_reader btree gss_scenario lanelet2 cosim_frame sweep_results recording run_dir run_diff)
+targets=(sdv_frontend ir_reader btree gss_scenario lanelet2 cosim_frame sweep_results recording run_dir run_diff
+         sweep_rows)
 rm -rf "$out"
 for t in "${targets[@]}"; do mkdir -p "$out/$t"; done
 out=$(cd "$out" && pwd)
@@ -105,6 +106,14 @@ else
     else
         echo "fuzz-corpus: the sweep of examples/sweeps/cut_in_table.sdv wrote no results.csv:" >&2
         tail -3 "$tmp/sweep.log" >&2
+    fi
+    # The rows of the sweep_rows target's own campaign, as this sdv writes them.
+    "$sdv" sweep "$root/tests/fuzz/targets/sweep_rows.sdv" -o "$tmp/rows" >"$tmp/rows.log" 2>&1 || true
+    if [ -f "$tmp/rows/rows/slice-0-of-1.csv" ]; then
+        cp "$tmp/rows/rows/slice-0-of-1.csv" "$out/sweep_rows/sweep_rows_sweep.csv"
+    else
+        echo "fuzz-corpus: the sweep of tests/fuzz/targets/sweep_rows.sdv wrote no rows:" >&2
+        tail -3 "$tmp/rows.log" >&2
     fi
     # Run directories (sdv view, sdv plot): a traced cut-in, pedestrians at a crossing with
     # walkways and crosswalks in road.json, and a replay of recorded traffic (recorded.csv);

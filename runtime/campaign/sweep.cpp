@@ -158,22 +158,12 @@ std::string param_text(const ir::Scenario& s, size_t k, double v) {
 bool read_row_of(const ir::Scenario& s, const std::vector<std::string>& cols, const VariantSpace& space,
                  const std::string& line, Row& out, std::string& why);
 
-// What a sweep found in the rows already in its directory.
-struct ReadRow {
-    Row row;
-    std::string line;
-};
-struct RowDamage {
-    int64_t rows = 0;
-    std::string first;  // "FILE:LINE: why"
-};
-
 // The rows of one rows/*.csv file (`text`, named `name` in messages) that read back as sdv
 // writes them, by variant (the first row of a variant is kept). A torn last line, from a sweep
 // killed while writing, is dropped; every other line that is not a row of this campaign counts
-// in `damage`, so its variant runs again on a resume.
+// in `out.damaged`, so its variant runs again on a resume.
 void read_rows(const ir::Scenario& s, const VariantSpace& space, const std::string& text, const std::string& name,
-               std::map<int64_t, ReadRow>& out, RowDamage& damage) {
+               RowFiles& out) {
     const auto cols = columns(s);
     size_t at = 0, line_no = 0;
     while (at < text.size()) {
@@ -186,27 +176,11 @@ void read_rows(const ir::Scenario& s, const VariantSpace& space, const std::stri
         Row r;
         std::string why;
         if (!read_row_of(s, cols, space, line, r, why)) {
-            if (damage.rows++ == 0) damage.first = name + ":" + std::to_string(line_no) + ": " + why;
+            if (out.damaged++ == 0) out.damage = name + ":" + std::to_string(line_no) + ": " + why;
             continue;
         }
         const int64_t v = r.variant;
-        if (!out.count(v)) out.emplace(v, ReadRow{std::move(r), std::move(line)});
-    }
-}
-
-// Every row in DIR/rows, the files read in name order.
-void read_dir_rows(const ir::Scenario& s, const VariantSpace& space, const std::string& dir,
-                   std::map<int64_t, ReadRow>& out, RowDamage& damage) {
-    std::vector<std::string> files;
-    std::error_code ec;
-    for (const auto& entry : fs::directory_iterator(dir + "/rows", ec)) {
-        if (entry.path().extension() == ".csv") files.push_back(entry.path().filename().string());
-    }
-    std::sort(files.begin(), files.end());
-    for (const auto& f : files) {
-        bool ok = false;
-        const std::string path = dir + "/rows/" + f;
-        read_rows(s, space, read_text(path, ok), path, out, damage);
+        if (!out.rows.count(v)) out.rows.emplace(v, StoredRow{std::move(r), std::move(line)});
     }
 }
 
@@ -437,11 +411,10 @@ SweepOutcome run_sweep(const ir::Program& program, int scenario, const SweepOpti
         out.error = "cannot write '" + manifest_path + "'";
         return out;
     }
-    std::map<int64_t, ReadRow> done;
-    RowDamage damage;
-    read_dir_rows(sc, space, o.dir, done, damage);
-    out.damaged = damage.rows;
-    out.damage = damage.first;
+    const RowFiles files = read_row_files(sc, o.dir);
+    const auto& done = files.rows;
+    out.damaged = files.damaged;
+    out.damage = files.damage;
     // Our own slice file: cut a torn last line, then append.
     const std::string own = slice_file(o.dir, o.slice, o.slices);
     {
@@ -568,6 +541,23 @@ sim::RunResult run_kept(const ir::Program& variant, int scenario, const std::str
     return r;
 }
 
+RowFiles read_row_files(const ir::Scenario& s, const std::string& dir) {
+    const VariantSpace space(s.vary);
+    std::vector<std::string> files;
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(dir + "/rows", ec)) {
+        if (entry.path().extension() == ".csv") files.push_back(entry.path().filename().string());
+    }
+    std::sort(files.begin(), files.end());
+    RowFiles out;
+    for (const auto& f : files) {
+        bool ok = false;
+        const std::string path = dir + "/rows/" + f;
+        read_rows(s, space, read_text(path, ok), path, out);
+    }
+    return out;
+}
+
 std::string gather(const ir::Program& program, int scenario, const std::string& dir, Results& out) {
     const ir::Scenario& sc = program.scenarios[static_cast<size_t>(scenario)];
     const int64_t n = VariantSpace(sc.vary).size();
@@ -577,10 +567,14 @@ std::string gather(const ir::Program& program, int scenario, const std::string& 
     if (manifest != manifest_text(program, scenario, n)) {
         return "the rows in '" + dir + "' belong to another campaign (a different scenario, vary block or sdv)";
     }
+    return gather_rows(sc, dir, out);
+}
+
+std::string gather_rows(const ir::Scenario& sc, const std::string& dir, Results& out) {
+    const int64_t n = VariantSpace(sc.vary).size();
     out.header = columns(sc);
-    std::map<int64_t, ReadRow> rows;
-    RowDamage damage;
-    read_dir_rows(sc, VariantSpace(sc.vary), dir, rows, damage);
+    RowFiles files = read_row_files(sc, dir);
+    auto& rows = files.rows;
     std::vector<int64_t> missing;
     for (int64_t i = 0; i < n && missing.size() < 6; ++i) {
         if (!rows.count(i)) missing.push_back(i);
@@ -590,9 +584,10 @@ std::string gather(const ir::Program& program, int scenario, const std::string& 
         for (size_t k = 0; k < missing.size() && k < 5; ++k) list += (k ? ", " : "") + std::to_string(missing[k]);
         if (missing.size() > 5) list += ", ...";
         std::string damaged;
-        if (damage.rows > 0) {
-            damaged = "; " + std::to_string(damage.rows) + (damage.rows == 1 ? " row is" : " rows are") +
-                      " not as sdv writes them (first: " + damage.first + ")";
+        if (files.damaged > 0) {
+            damaged = files.damaged == 1 ? "; 1 line is not a row as sdv writes it (" + files.damage + ")"
+                                         : "; " + std::to_string(files.damaged) +
+                                               " lines are not rows as sdv writes them (first: " + files.damage + ")";
         }
         return "the sweep in '" + dir + "' is incomplete: " + std::to_string(n - static_cast<int64_t>(rows.size())) +
                " of " + std::to_string(n) + " variants have no row (" + list + ")" + damaged +

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -90,6 +91,20 @@ std::string row_text(const ir::Scenario& scenario, const Row& row);
 bool read_row(const ir::Scenario& scenario, const VariantSpace& space, const std::string& line, Row& out,
               std::string& why);
 
+// What DIR/rows holds: the rows read back (read_row), the first of each variant, with their
+// text; and the lines that are not rows (a torn last line of a file, from a kill during its
+// write, is neither).
+struct StoredRow {
+    Row row;
+    std::string line;
+};
+struct RowFiles {
+    std::map<int64_t, StoredRow> rows;
+    int64_t damaged = 0;
+    std::string damage;  // the first line that is not a row: "FILE:LINE: why"
+};
+RowFiles read_row_files(const ir::Scenario& scenario, const std::string& dir);
+
 struct Results {
     std::vector<std::string> header;
     std::vector<std::string> lines;  // row text, sorted by variant
@@ -98,6 +113,8 @@ struct Results {
 
 // Gathers the rows of every slice in DIR; an error names what is missing or inconsistent.
 std::string gather(const ir::Program& program, int scenario, const std::string& dir, Results& out);
+// gather without the check that DIR's manifest is this campaign's.
+std::string gather_rows(const ir::Scenario& scenario, const std::string& dir, Results& out);
 
 // Writes DIR/results.csv and DIR/summary.json from the gathered rows.
 std::string write_results(const ir::Program& program, int scenario, const SweepOptions& options,

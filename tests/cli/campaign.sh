@@ -106,7 +106,7 @@ lines[2] = ",".join(cells)
 open(rows, "w").write("\n".join(lines))
 EOF
 "$sdv" sweep "$table" -o "$tmp/damaged" --resume > "$tmp/damaged.log" 2>&1
-grep -q "warning: 1 line of $tmp/damaged/rows is not a row as sdv writes them; .*(first: $tmp/damaged/rows/slice-0-of-1.csv:3: 'min_ttc\[s\]' 'abc' is not a number)" "$tmp/damaged.log" &&
+grep -q "warning: 1 line of $tmp/damaged/rows is not a row as sdv writes it; .*($tmp/damaged/rows/slice-0-of-1.csv:3: 'min_ttc\[s\]' 'abc' is not a number)" "$tmp/damaged.log" &&
     grep -q "resumed: 34 of 35" "$tmp/damaged.log" && pass "a damaged row is named and its variant runs again" || { bad "damaged row"; cat "$tmp/damaged.log"; }
 same "$tmp/j1/results.csv" "$tmp/damaged/results.csv" "results.csv after a damaged row and a resume identical"
 

@@ -113,3 +113,6 @@ write("run_diff", JSON | cpp_literals("runtime/io/run_diff.cpp", "runtime/io/rec
          "time", "vehicle", "maneuver", "winner", "cost", "total", "keep", "0.0000", "-0.0000", "0.0010", "0.0011",
          "86400000", "100000", "999999999999.9999", "1e308"},
       "pairs of run directories: trajectories.csv columns, decisions.jsonl keys")
+write("sweep_rows", cpp_literals("runtime/campaign/sweep.cpp")
+      | {"\n", ",", "\"", "\"\"", "0", "1", "-0", "1e-05", "1e+06", "nan", "inf", "302", "7.81939", "135.263"},
+      "a sweep's rows: CSV syntax, numbers as %.6g writes them, values of the target's first variant")

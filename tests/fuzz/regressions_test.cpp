@@ -61,3 +61,4 @@ TEST_CASE("sweep_results") { replay("sweep_results", sdv_fuzz_sweep_results); }
 TEST_CASE("recording") { replay("recording", sdv_fuzz_recording); }
 TEST_CASE("run_dir") { replay("run_dir", sdv_fuzz_run_dir); }
 TEST_CASE("run_diff") { replay("run_diff", sdv_fuzz_run_diff); }
+TEST_CASE("sweep_rows") { replay("sweep_rows", sdv_fuzz_sweep_rows); }

@@ -18,3 +18,4 @@ int sdv_fuzz_sweep_results(const uint8_t* data, size_t size);  // sweep director
 int sdv_fuzz_recording(const uint8_t* data, size_t size);      // recorded traffic: replay, calibrate
 int sdv_fuzz_run_dir(const uint8_t* data, size_t size);        // run directory: view, plot
 int sdv_fuzz_run_diff(const uint8_t* data, size_t size);       // two run directories: diff --runs
+int sdv_fuzz_sweep_rows(const uint8_t* data, size_t size);     // a sweep's rows: --resume, merge

@@ -241,7 +241,7 @@ TEST_CASE("damaged rows are named by gather, run again on a resume, and leave re
         CHECK_MESSAGE(e.find("is incomplete: " + std::to_string(damaged_variants.size()) + " of 12") !=
                           std::string::npos,
                       e);
-        CHECK_MESSAGE(e.find(std::to_string(k + 1) + " rows are not as sdv writes them (first: " + dir + slice +
+        CHECK_MESSAGE(e.find(std::to_string(k + 1) + " lines are not rows as sdv writes them (first: " + dir + slice +
                              ":" + std::to_string(first) + ": ") != std::string::npos,
                       e);
 
