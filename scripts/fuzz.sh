@@ -39,12 +39,13 @@ targets=(sdv_frontend ir_reader btree gss_scenario lanelet2 cosim_frame sweep_re
 # .gs.osm finding 23 passed 1 s from 49 KB): their work is linear, but dense text (thousands of
 # arguments in one call, of entries in one btconfig) costs the targets 7-10 µs a byte at -O2 and
 # 20-35 under ASan+UBSan, so 256 KB of it passed 1 s in every build (docs/reliability.md).
-# A run directory's readers (run_dir; run_diff, two of them) and a sweep's rows (sweep_rows)
-# make one pass over each file; real ones are megabytes of the same rows, and 256 KB holds every
-# kind of row and the deep seeds: larger inputs only slow it down.
+# A run directory's readers (run_dir; run_diff, two of them) make one pass over each file; real
+# ones are megabytes of the same rows, and 256 KB holds every kind of row and the deep seeds:
+# larger inputs only slow it down. sweep_rows reads each line three ways, 25-40 µs a line under
+# ASan+UBSan (11 exec/s at 256 KB, 214 at 8 KB): 8 KB hold every variant of its campaign ten times.
 declare -A max_len=([sdv_frontend]=65536 [ir_reader]=262144 [btree]=65536 [gss_scenario]=65536
                     [lanelet2]=1048576 [cosim_frame]=262144 [sweep_results]=262144 [recording]=1048576
-                    [run_dir]=262144 [run_diff]=262144 [sweep_rows]=262144)
+                    [run_dir]=262144 [run_diff]=262144 [sweep_rows]=8192)
 # The time an input may take (-timeout, seconds) is 1 s, and under ASan+UBSan 3 s for those
 # three: 64 KB of dense text cost up to 2.2 s there, two to four times its cost without
 # sanitizers, where they keep the 1 s limit.
@@ -53,7 +54,7 @@ declare -A timeout_sanitized=([sdv_frontend]=3 [btree]=3 [gss_scenario]=3)
 # core of the development machine (docs/reliability.md has each target's exec/s).
 declare -A ci_runs=([sdv_frontend]=2500 [ir_reader]=15000 [btree]=8000 [gss_scenario]=9000
                     [lanelet2]=7000 [cosim_frame]=3000 [sweep_results]=15000 [recording]=3000
-                    [run_dir]=10000 [run_diff]=3000 [sweep_rows]=10000)
+                    [run_dir]=10000 [run_diff]=3000 [sweep_rows]=4000)
 
 usage() {
     sed -n '4,8p' "$0" >&2

@@ -194,10 +194,11 @@ decisions = "".join(json.dumps({"time": k / 10, "vehicle": f"v{k % 3}", "maneuve
 write("run_diff", "decisions_1000_last_differs", traj + row.format(tick=0) + "\0" + decisions + "\0" + traj + row.format(tick=0)
       + "\0" + decisions.replace('"winner": 3, "cost": {"total": 142.714', '"winner": 2, "cost": {"total": 142.714'))
 
-# A sweep's rows (the campaign of tests/fuzz/targets/sweep_rows.sdv): one row thousands of times,
-# a long error, a line of commas, a quote never closed.
+# A sweep's rows (the campaign of tests/fuzz/targets/sweep_rows.sdv), within the target's 8 KB
+# (scripts/fuzz.sh): one row a hundred times, a long error, a line of commas, a quote never
+# closed. Larger files of the kind are in its committed corpus, replayed in every build.
 sweep_row = "0,302,7.81939,135.263,1,,0,42.4809,118.019,118.019,0,1,118.019,1,,1\n"
-write("sweep_rows", "same_row_3000", sweep_row * 3000)
-write("sweep_rows", "error_100k", '0,302,7.81939,135.263,0,"' + "e" * 100000 + '",,,,,,,,0,,0\n')
-write("sweep_rows", "commas_100k", "," * 100000 + "\n")
-write("sweep_rows", "open_quote_100k", '0,302,"' + "x," * 50000 + "\n" + sweep_row)
+write("sweep_rows", "same_row_100", sweep_row * 100)
+write("sweep_rows", "error_8000", '0,302,7.81939,135.263,0,"' + "e" * 8000 + '",,,,,,,,0,,0\n')
+write("sweep_rows", "commas_8000", "," * 8000 + "\n")
+write("sweep_rows", "open_quote_8000", '0,302,"' + "x," * 4000 + "\n" + sweep_row)
