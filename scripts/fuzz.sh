@@ -2,8 +2,9 @@
 # Runs one libFuzzer target of tests/fuzz (tests/fuzz/README.md) and records the run in
 # docs/reliability.md.
 #
-#   scripts/fuzz.sh TARGET [MINUTES] [--no-sanitizers] [--runs N [--resume] | --ci] [--keep-going]
-#                   [--record|--no-record] [--corpus DIR] [--jobs N] [--no-build]
+#   scripts/fuzz.sh TARGET [MINUTES] [--no-sanitizers] [--runs N [--resume [--parts P]
+#                   [--part-minutes M] [--part-runs K] [--state-dir DIR]] | --ci] [--keep-going]
+#                   [--record|--no-record] [--corpus DIR] [--jobs N] [--no-build] [--build-dir DIR]
 #
 # TARGET is a name of tests/fuzz/targets (sdv_frontend ir_reader btree gss_scenario lanelet2
 # cosim_frame sweep_results recording run_dir run_diff sweep_rows). The run is bounded by time
@@ -11,7 +12,8 @@
 # included); --ci is --runs with the target's CI count (below) and --no-build, as
 # scripts/check.sh runs it. It builds
 # the fuzz preset (ASan+UBSan) or, with --no-sanitizers, fuzz-nosan, then gathers the seed corpus
-# once into build/<preset>/corpus (scripts/fuzz-corpus.sh; --corpus DIR uses another). New inputs
+# once into build/<preset>/corpus (scripts/fuzz-corpus.sh; --corpus DIR uses another; --build-dir
+# DIR builds and runs the preset's executables in DIR instead of build/<preset>). New inputs
 # go to build/<preset>/fuzz-work/TARGET, kept between runs; findings to
 # build/<preset>/findings/TARGET/ (crash-*, timeout-*, oom-*, leak-*: replay one with
 # `build/<preset>/fuzz/fuzz_TARGET FILE`, then add it to tests/fuzz/regressions/TARGET/).
@@ -20,13 +22,26 @@
 # --keep-going (libFuzzer's fork mode: each finding is saved and counted, the fuzzing goes on).
 # A time-bounded run rewrites its row (target and build) of the table in docs/reliability.md
 # unless --no-record; a count-bounded one only with --record.
-# --resume makes a count-bounded run a campaign in parts (10 million executions take hours, more
-# than one sitting): the first part copies the executable and keeps it, with its corpus and the
-# executions so far, in build/<preset>/campaigns/TARGET; stop a part at any time (SIGTERM to the
-# fuzzer's main process, pkill -o) and run the same command again to go on with the same
-# executable from that corpus, until N executions in all. The row is recorded when the campaign ends, its executions summed
-# over the parts, the commit its executable was built from in its bound.
+#
+# --resume makes a count-bounded run a campaign: N executions of one executable, in parts that
+# may span days and machines (tests/fuzz/README.md). Its state is committed:
+# tests/fuzz/campaigns/PRESET/TARGET (--state-dir DIR: DIR/PRESET/TARGET) holds the bound, the
+# executions, seconds, findings and parts so far, the commit the executable was built from and
+# its SHA-256; the artifacts of its findings are copied beside it (TARGET.findings/); with
+# --state-dir, this machine's copy of the campaign is in DIR/machine, not in build/. The
+# command runs parts of M minutes (--part-minutes, default 10; --part-runs K: at most K
+# executions a part) one after the other until N executions in all, or P parts (--parts), or a
+# signal (SIGTERM or SIGINT to this script or to the fuzzer's main process); the state is written
+# after every part, so a machine that stops loses one part at most. Run the same command again to
+# go on. On a machine without the campaign's copy of its executable (build/PRESET/campaigns/
+# TARGET) the executable is found again by its SHA-256: the current build's if it is the same
+# bytes (builds are independent of their directory), else a build of the commit's source
+# (git archive into build/campaign-src/COMMIT); other bytes are refused. The row is recorded
+# when the campaign ends, with --record also a row a part in the table of campaigns under way.
 # Exit status: 0 no finding, 1 a finding, 2 usage or build errors.
+# The whole script is one block, read before it runs: a campaign runs for hours, and bash reads a
+# script as it goes, so an edit of this file would otherwise change the commands of a run under way.
+{
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 targets=(sdv_frontend ir_reader btree gss_scenario lanelet2 cosim_frame sweep_results recording run_dir run_diff
@@ -57,27 +72,35 @@ declare -A ci_runs=([sdv_frontend]=2500 [ir_reader]=15000 [btree]=8000 [gss_scen
                     [run_dir]=10000 [run_diff]=3000 [sweep_rows]=4000)
 
 usage() {
-    sed -n '4,8p' "$0" >&2
+    sed -n '5,7p' "$0" >&2
     exit 2
 }
 
 target="" minutes=10 preset=fuzz runs="" record="" corpus="" jobs=1 keep_going=0 ci=0 build_it=1 resume=0
+max_parts="" part_minutes=10 part_runs="" state_dir="" build_dir=""
+given=("$@")
+number() { [[ "$2" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz.sh: $1 takes a positive whole number, not '$2'" >&2; usage; }; }
 while [ $# -gt 0 ]; do
     case $1 in
         --no-sanitizers) preset=fuzz-nosan ;;
-        --runs) runs=${2:?}; shift ;;
+        --runs) runs=${2:?}; number "$1" "$runs"; shift ;;
         --record) record=1 ;;
         --keep-going) keep_going=1 ;;
         --resume) resume=1 ;;
+        --parts) max_parts=${2:?}; number "$1" "$max_parts"; shift ;;
+        --part-minutes) part_minutes=${2:?}; number "$1" "$part_minutes"; shift ;;
+        --part-runs) part_runs=${2:?}; number "$1" "$part_runs"; shift ;;
+        --state-dir) state_dir=$(realpath -m "${2:?}"); shift ;;
+        --build-dir) build_dir=$(realpath -m "${2:?}"); shift ;;
         --ci) ci=1; build_it=0 ;;
         --no-build) build_it=0 ;;
         --no-record) record=0 ;;
         --corpus) corpus=${2:?}; shift ;;
-        --jobs) jobs=${2:?}; shift ;;
+        --jobs) jobs=${2:?}; number "$1" "$jobs"; shift ;;
         -h|--help) usage ;;
         -*) echo "fuzz.sh: unknown option $1" >&2; usage ;;
         *)
-            if [ -z "$target" ]; then target=$1; else minutes=$1; fi ;;
+            if [ -z "$target" ]; then target=$1; else minutes=$1; number minutes "$minutes"; fi ;;
     esac
     shift
 done
@@ -93,52 +116,133 @@ if [ "$resume" = 1 ] && { [ -z "$runs" ] || [ "$ci" = 1 ]; }; then
 fi
 [ -n "$record" ] || { [ -n "$runs" ] && record=0 || record=1; }
 
-build=$root/build/$preset
+build=${build_dir:-$root/build/$preset}
 cd "$root"
-if [ "$build_it" = 1 ]; then
-    if [ ! -f "$build/CMakeCache.txt" ]; then
-        cmake --preset "$preset" >/dev/null || exit 2
+# build_target DIR: builds fuzz_TARGET in the build directory DIR of the source tree above it.
+build_target() {
+    local dir=$1 src=${1%/build/"$preset"}
+    if [ ! -f "$dir/CMakeCache.txt" ]; then
+        if [ "$src" = "$dir" ]; then
+            echo "fuzz.sh: $dir is no configured build (cmake --preset $preset configures build/$preset)" >&2
+            return 1
+        fi
+        # The shared data by its real path, as the build in the checkout names it.
+        (cd "$src" && cmake --preset "$preset" -DSDV_FUZZ_SHARED_DIR="$(realpath -m "$root/../shared")" >/dev/null) || return 1
     fi
-    cmake --build "$build" --target "fuzz_$target" -j "$(nproc)" >"$build/fuzz-build-$target.log" 2>&1 || {
-        tail -30 "$build/fuzz-build-$target.log" >&2
-        echo "fuzz.sh: building fuzz_$target failed (log: $build/fuzz-build-$target.log)" >&2
-        exit 2
+    mkdir -p "$dir"
+    cmake --build "$dir" --target "fuzz_$target" -j "$(nproc)" >"$dir/fuzz-build-$target.log" 2>&1 || {
+        tail -30 "$dir/fuzz-build-$target.log" >&2
+        echo "fuzz.sh: building fuzz_$target failed (log: $dir/fuzz-build-$target.log)" >&2
+        return 1
     }
-fi
+}
 exe=$build/fuzz/fuzz_$target
+
+# A campaign (--resume): its copy of the executable, corpus and state on this machine, and the
+# committed state it goes on from on any machine.
 campaign=$build/campaigns/$target
-# The state of a campaign in parts (--resume): its bound, the executions, seconds and findings of
-# the parts so far, and the commit its executable was built from.
-c_runs=0 c_execs=0 c_seconds=0 c_findings=0 c_parts=0 c_commit=""
-if [ "$resume" = 1 ] && [ -f "$campaign/state" ]; then
-    # shellcheck disable=SC1091
-    . "$campaign/state"
-    if [ "$c_runs" != "$runs" ]; then
-        echo "fuzz.sh: $campaign is a campaign of $c_runs runs, not $runs: finish it, or delete the directory" >&2
-        exit 2
+saved=$root/tests/fuzz/campaigns/$preset/$target
+if [ -n "$state_dir" ]; then
+    campaign=$state_dir/machine/$preset/$target saved=$state_dir/$preset/$target
+fi
+c_runs=0 c_execs=0 c_seconds=0 c_findings=0 c_parts=0 c_machines=0 c_commit="" c_clean=0 c_sha256=""
+c_toolchain="" c_started="" c_last="" c_command=""
+save_state() {
+    local f
+    c_last=$(date -u +%Y-%m-%d)
+    mkdir -p "$(dirname "$saved")"
+    for f in "$campaign/state" "$saved"; do
+        printf '# A fuzz campaign of scripts/fuzz.sh --resume (tests/fuzz/README.md); written by the script.\n' >"$f.part"
+        printf 'c_%s=%q\n' runs "$c_runs" execs "$c_execs" seconds "$c_seconds" findings "$c_findings" \
+            parts "$c_parts" machines "$c_machines" commit "$c_commit" clean "$c_clean" sha256 "$c_sha256" \
+            toolchain "$c_toolchain" started "$c_started" last "$c_last" command "$c_command" >>"$f.part"
+        mv -f "$f.part" "$f"
+    done
+}
+sha() { sha256sum "$1" | cut -c1-64; }
+# A campaign under way on this machine runs its own copy: nothing to build.
+if [ "$build_it" = 1 ] && { [ "$resume" = 0 ] || [ ! -f "$campaign/state" ]; }; then
+    build_target "$build" || exit 2
+fi
+if [ "$resume" = 1 ]; then
+    if [ -f "$campaign/state" ] || [ -f "$saved" ]; then
+        from=$saved
+        [ ! -f "$campaign/state" ] || from=$campaign/state
+        # shellcheck disable=SC1090
+        . "$from"
+        if [ "$c_runs" != "$runs" ]; then
+            echo "fuzz.sh: $from is a campaign of $c_runs runs, not $runs: finish it, or delete it" \
+                 "(and $campaign) to start over" >&2
+            exit 2
+        fi
     fi
-    exe=$campaign/fuzz_$target
-    echo "fuzz.sh: resuming $campaign: part $((c_parts + 1)), $c_execs of $c_runs executions done" >&2
+    if [ -f "$campaign/state" ]; then
+        exe=$campaign/fuzz_$target
+        echo "fuzz.sh: resuming $campaign: part $((c_parts + 1)), $c_execs of $c_runs executions done" >&2
+    elif [ -f "$saved" ]; then
+        # Another machine ran the parts so far: find the executable again by its bytes.
+        echo "fuzz.sh: resuming the campaign of $saved on this machine: part $((c_parts + 1))," \
+             "$c_execs of $c_runs executions done; its executable was built from $c_commit" >&2
+        if [ ! -x "$exe" ] || [ "$(sha "$exe")" != "$c_sha256" ]; then
+            if [ "$c_clean" != 1 ]; then
+                echo "fuzz.sh: the campaign's executable was built from $c_commit with uncommitted changes:" \
+                     "it cannot be built again, and $exe is not it; delete $saved to start over" >&2
+                exit 2
+            fi
+            src=$root/build/campaign-src/$c_commit
+            if [ ! -f "$src/CMakePresets.json" ]; then
+                rm -rf "$src" && mkdir -p "$src"
+                git -C "$root" archive "$c_commit" | tar -x -C "$src" || {
+                    rm -rf "$src"
+                    echo "fuzz.sh: no commit $c_commit in this repository: the campaign cannot go on;" \
+                         "delete $saved to start over" >&2
+                    exit 2
+                }
+            fi
+            echo "fuzz.sh: building fuzz_$target of $c_commit in $src" >&2
+            build_target "$src/build/$preset" || exit 2
+            exe=$src/build/$preset/fuzz/fuzz_$target
+            if [ "$(sha "$exe")" != "$c_sha256" ]; then
+                echo "fuzz.sh: fuzz_$target built again from $c_commit is not the campaign's executable" \
+                     "(SHA-256 $(sha "$exe"), not $c_sha256; the campaign's toolchain: $c_toolchain;" \
+                     "this one: $(clang++ --version | head -1)): the campaign cannot go on; delete $saved" \
+                     "to start over" >&2
+                exit 2
+            fi
+        fi
+        rm -rf "$campaign" && mkdir -p "$campaign/work"
+        cp -p "$exe" "$campaign/fuzz_$target"
+        exe=$campaign/fuzz_$target
+        c_machines=$((c_machines + 1))
+        save_state
+    else
+        if [ ! -x "$exe" ]; then
+            echo "fuzz.sh: no $exe: build the $preset preset first" >&2
+            exit 2
+        fi
+        rm -rf "$campaign" && mkdir -p "$campaign/work"
+        cp -p "$exe" "$campaign/fuzz_$target"
+        exe=$campaign/fuzz_$target
+        c_runs=$runs c_machines=1 c_started=$(date -u +%Y-%m-%d) c_command="scripts/fuzz.sh ${given[*]}"
+        # The commit the executable was built from: HEAD, when no tracked file differs from it
+        # (but the ones this script writes); otherwise the campaign can go on only where the
+        # same bytes are built (it cannot be built again from a commit).
+        c_commit=$(git -C "$root" rev-parse --short=12 HEAD)
+        c_clean=1
+        if [ -n "$(git -C "$root" status --porcelain --untracked-files=no -- . ':!tests/fuzz/campaigns' \
+                   ':!docs/reliability.md')" ]; then
+            c_clean=0
+            echo "fuzz.sh: warning: the tree has uncommitted changes: this campaign can go on only where" \
+                 "its executable's bytes are built again (commit first to run it on any machine)" >&2
+        fi
+        c_sha256=$(sha "$exe")
+        c_toolchain=$(clang++ --version | head -1)
+        save_state
+    fi
 fi
 if [ ! -x "$exe" ]; then
     echo "fuzz.sh: no $exe: build the $preset preset first" >&2
     exit 2
-fi
-if [ "$resume" = 1 ] && [ ! -f "$campaign/state" ]; then
-    rm -rf "$campaign" && mkdir -p "$campaign/work"
-    cp -p "$exe" "$campaign/fuzz_$target"
-    exe=$campaign/fuzz_$target
-    c_runs=$runs
-    # The commit the executable was built from: the last one before it was linked, with
-    # "uncommitted changes" when files that differ from that commit are older than it.
-    built=$(stat -c %Y "$exe")
-    c_commit=$(git -C "$root" log -1 --format=%h --until="@$built")
-    while IFS= read -r f; do
-        if [ -f "$root/$f" ] && [ "$(stat -c %Y "$root/$f")" -le "$built" ]; then
-            c_commit="$c_commit with uncommitted changes"
-            break
-        fi
-    done < <(git -C "$root" diff --name-only "$c_commit")
 fi
 
 # The seed corpus: gathered once (delete the directory to gather again). The inputs are
@@ -165,122 +269,119 @@ findings=$build/findings/$target
 mkdir -p "$work" "$findings"
 logs=$(mktemp -d)
 trap 'rm -rf "$logs"' EXIT
-save_state() {
-    printf 'c_runs=%s\nc_execs=%s\nc_seconds=%s\nc_findings=%s\nc_parts=%s\nc_commit=%q\n' \
-        "$c_runs" "$c_execs" "$c_seconds" "$c_findings" "$c_parts" "$c_commit" >"$campaign/state"
-}
-if [ "$resume" = 1 ]; then
-    # Saved before the part too: a part cut short without its statistics (the machine stopped)
-    # adds nothing, and the next goes on from its corpus.
-    save_state
-    # A part of a campaign goes on from the corpus of the parts before (another seed each).
-    bound=(-runs="$((runs - c_execs))" -seed="$((c_parts + 1))")
-elif [ -n "$runs" ]; then
-    # A bounded run starts from the seeds alone, so that it is the same run every time.
-    rm -rf "$work" && mkdir -p "$work"
-    bound=(-runs="$runs" -seed=1)
-else
-    bound=(-max_total_time=$((minutes * 60)))
-fi
+# SIGTERM or SIGINT to the script stops the fuzzer (as one to the fuzzer's main process does) and
+# ends the run after the part under way is counted.
+fuzzer_pid="" stop_asked=0
+trap 'stop_asked=1; [ -z "$fuzzer_pid" ] || kill -TERM "$fuzzer_pid" 2>/dev/null || true' TERM INT
+
 # An input over 1 s is a finding of a long run (docs/reliability.md); CI only fails on a hang
 # (60 s): its verdict must not depend on how busy the machine is.
 per_input=1
 [ "$preset" != fuzz ] || per_input=${timeout_sanitized[$target]:-1}
 [ "$ci" = 0 ] || per_input=60
-args=("${bound[@]}" -max_len="${max_len[$target]}" -timeout="$per_input" -rss_limit_mb=2048
-      -dict="$root/tests/fuzz/dict/$target.dict" -artifact_prefix="$findings/" -print_final_stats=1
-      -interrupted_exitcode=72)
+common=(-max_len="${max_len[$target]}" -timeout="$per_input" -rss_limit_mb=2048
+        -dict="$root/tests/fuzz/dict/$target.dict" -artifact_prefix="$findings/" -print_final_stats=1
+        -interrupted_exitcode=72)
 # One process by default (as -jobs=1 -workers=1); --jobs N runs N jobs side by side, each in a
 # child process writing fuzz-<k>.log in the working directory; --keep-going runs --jobs
 # children at a time in fork mode.
 if [ "$keep_going" = 1 ]; then
-    args+=(-fork="$jobs" -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1)
+    common+=(-fork="$jobs" -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1)
 elif [ "$jobs" -gt 1 ]; then
-    args+=(-jobs="$jobs" -workers="$jobs")
+    common+=(-jobs="$jobs" -workers="$jobs")
 fi
-touch "$logs/start"
-before=$(find "$findings" -type f | wc -l)
-echo "fuzz.sh: fuzz_$target ($preset) ${bound[0]} over $corpus/$target" >&2
-status=0
-started=$SECONDS
-(cd "$logs" && UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    "$exe" "${args[@]}" "$work" "$corpus/$target" >"$logs/main.log" 2>&1) || status=$?
-seconds=$((SECONDS - started))
-cat "$logs"/fuzz-*.log >"$logs/all.log" 2>/dev/null || true
-cat "$logs/main.log" >>"$logs/all.log"
-after=$(find "$findings" -type f | wc -l)
-crashes=$((after - before))
 
-# The numbers of the run: libFuzzer's final stats (summed over jobs) and the coverage of its
-# last status line; in fork mode its last "#N: cov: ... time: Ts" line.
-read -r execs rate cov ft < <(awk '
-    /stat::number_of_executed_units:/ { execs += $2 }
-    /stat::average_exec_per_sec:/ { rate += $2 }
-    /^#[0-9]+:?[[:space:]].*cov: [0-9]+ ft: [0-9]+/ {
-        for (i = 1; i < NF; i++) { if ($i == "cov:") c = $(i + 1); if ($i == "ft:") f = $(i + 1); if ($i == "time:") t = $(i + 1) }
-        if (c + 0 > cov) cov = c + 0; if (f + 0 > ft) ft = f + 0
-        if ($1 ~ /:$/) { n = substr($1, 2) + 0; if (n > fork_execs) fork_execs = n; sub(/s$/, "", t); fork_time = t + 0 } }
-    END { if (execs == 0 && fork_execs > 0) { execs = fork_execs; rate = fork_time > 0 ? fork_execs / fork_time : 0 }
-          printf "%d %d %d %d\n", execs, rate, cov, ft }' "$logs/all.log")
-grep -E "^(INFO: (seed|.*files found)|#[0-9]+[[:space:]]+(INITED|DONE)|stat::|==[0-9]+==ERROR|SUMMARY|ALARM|sdv fuzz:)" \
-    "$logs/all.log" | head -40 >&2 || true
-# Exit status 72 without an artifact: stopped by SIGINT or SIGTERM, not a finding.
-stopped=0
-if [ "$status" -eq 72 ] && [ "$crashes" -eq 0 ]; then
-    stopped=1 status=0
-    echo "fuzz.sh: fuzz_$target stopped by a signal" >&2
-fi
-if [ "$keep_going" = 1 ] && [ "$crashes" -gt 0 ]; then
-    echo "fuzz.sh: $crashes FINDING(s) in fuzz_$target:" >&2
-    find "$findings" -type f -newer "$logs/start" | sed 's/^/    /' >&2
-elif [ "$status" -ne 0 ] || [ "$crashes" -gt 0 ]; then
-    echo "fuzz.sh: FINDING in fuzz_$target: exit status $status; artifacts:" >&2
-    find "$findings" -type f -newer "$logs/start" | sed 's/^/    /' >&2
-    grep -E -m5 "ERROR|runtime error|sdv fuzz:|ALARM" "$logs/all.log" | sed 's/^/    /' >&2 || true
-    [ "$crashes" -gt 0 ] || crashes=1
-fi
-# A timeout is measured in wall-clock time: on a machine busy with other work an input of 0.4 s
-# can pass 1 s. Each new timeout artifact is replayed three times in one process and the fastest
-# of the last two (the first pays the target's one-time set-up) is printed next to the limit,
-# so that a load artifact is told from a slow input. It stays counted as a finding.
-for f in $(find "$findings" -type f -name 'timeout-*' -newer "$logs/start" 2>/dev/null); do
-    ms=$("$exe" "$f" "$f" "$f" 2>&1 |
-         awk '/^Executed .* in [0-9]+ ms/ { n++; if (n > 1 && (best == "" || $(NF - 1) + 0 < best)) best = $(NF - 1) + 0 }
-              END { print best == "" ? "?" : best }') || ms="?"
-    echo "fuzz.sh: $(basename "$f") replays alone in $ms ms (limit ${per_input} s)" >&2
-done
-echo "fuzz.sh: fuzz_$target: $execs executions, $rate exec/s, cov $cov ft $ft, $crashes finding(s)" >&2
+# fuzz_once ARGS...: one run of the fuzzer with the bound ARGS; sets status, seconds, execs, rate,
+# cov, ft, crashes (artifacts written), stopped (by a signal, not a finding) and new_findings.
+fuzz_once() {
+    rm -f "$logs"/*.log
+    touch "$logs/start"
+    local before after
+    before=$(find "$findings" -type f | wc -l)
+    echo "fuzz.sh: fuzz_$target ($preset) $* over $corpus/$target" >&2
+    status=0
+    local started=$SECONDS
+    (cd "$logs" && UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+        exec "$exe" "$@" "${common[@]}" "$work" "$corpus/$target" >"$logs/main.log" 2>&1) &
+    fuzzer_pid=$!
+    # A signal that came before the fuzzer started stops it now.
+    [ "$stop_asked" = 0 ] || kill -TERM "$fuzzer_pid" 2>/dev/null || true
+    while :; do
+        local st=0
+        wait "$fuzzer_pid" || st=$?
+        # A signal trapped by this script interrupts wait, not the fuzzer: wait again.
+        if [ "$st" -gt 128 ] && kill -0 "$fuzzer_pid" 2>/dev/null; then continue; fi
+        status=$st
+        break
+    done
+    fuzzer_pid=""
+    seconds=$((SECONDS - started))
+    cat "$logs"/fuzz-*.log >"$logs/all.log" 2>/dev/null || true
+    cat "$logs/main.log" >>"$logs/all.log"
+    after=$(find "$findings" -type f | wc -l)
+    crashes=$((after - before))
+    new_findings=$(find "$findings" -type f -newer "$logs/start")
 
-if [ "$resume" = 1 ]; then
-    c_parts=$((c_parts + 1)) c_execs=$((c_execs + execs)) c_seconds=$((c_seconds + seconds))
-    c_findings=$((c_findings + crashes))
-    save_state
-    if [ "$c_execs" -lt "$c_runs" ]; then
-        echo "fuzz.sh: campaign of fuzz_$target: $c_execs of $c_runs executions in $c_parts part(s)," \
-             "$c_findings finding(s); run the same command to go on" >&2
-        record=0
-    else
-        echo "fuzz.sh: campaign of fuzz_$target done: $c_execs executions in $c_parts part(s)," \
-             "$c_findings finding(s)" >&2
-        execs=$c_execs crashes=$c_findings
-        rate=$((c_seconds > 0 ? c_execs / c_seconds : 0))
-        mv "$campaign" "$campaign.done-$(date -u +%Y%m%d%H%M%S)"
+    # The numbers of the run: libFuzzer's final stats (summed over jobs) and the coverage of its
+    # last status line; in fork mode its last "#N: cov: ... time: Ts" line.
+    read -r execs rate cov ft < <(awk '
+        /stat::number_of_executed_units:/ { execs += $2 }
+        /stat::average_exec_per_sec:/ { rate += $2 }
+        /^#[0-9]+:?[[:space:]].*cov: [0-9]+ ft: [0-9]+/ {
+            for (i = 1; i < NF; i++) { if ($i == "cov:") c = $(i + 1); if ($i == "ft:") f = $(i + 1); if ($i == "time:") t = $(i + 1) }
+            if (c + 0 > cov) cov = c + 0; if (f + 0 > ft) ft = f + 0
+            if ($1 ~ /:$/) { n = substr($1, 2) + 0; if (n > fork_execs) fork_execs = n; sub(/s$/, "", t); fork_time = t + 0 } }
+        END { if (execs == 0 && fork_execs > 0) { execs = fork_execs; rate = fork_time > 0 ? fork_execs / fork_time : 0 }
+              printf "%d %d %d %d\n", execs, rate, cov, ft }' "$logs/all.log")
+    grep -E "^(INFO: (seed|.*files found)|#[0-9]+[[:space:]]+(INITED|DONE)|stat::|==[0-9]+==ERROR|SUMMARY|ALARM|sdv fuzz:)" \
+        "$logs/all.log" | head -40 >&2 || true
+    # Exit status 72 without an artifact: stopped by SIGINT or SIGTERM, not a finding; so is
+    # 143 when this script passed a signal on before the fuzzer could handle it.
+    stopped=0
+    if { [ "$status" -eq 72 ] || { [ "$status" -eq 143 ] && [ "$stop_asked" = 1 ]; }; } && [ "$crashes" -eq 0 ]; then
+        stopped=1 status=0
+        echo "fuzz.sh: fuzz_$target stopped by a signal" >&2
     fi
-fi
+    if [ "$keep_going" = 1 ] && [ "$crashes" -gt 0 ]; then
+        echo "fuzz.sh: $crashes FINDING(s) in fuzz_$target:" >&2
+        printf '%s\n' "$new_findings" | sed 's/^/    /' >&2
+    elif [ "$status" -ne 0 ] || [ "$crashes" -gt 0 ]; then
+        echo "fuzz.sh: FINDING in fuzz_$target: exit status $status; artifacts:" >&2
+        printf '%s\n' "$new_findings" | sed '/^$/d; s/^/    /' >&2
+        grep -E -m5 "ERROR|runtime error|sdv fuzz:|ALARM" "$logs/all.log" | sed 's/^/    /' >&2 || true
+        [ "$crashes" -gt 0 ] || crashes=1
+    fi
+    # A timeout is measured in wall-clock time: on a machine busy with other work an input of 0.4 s
+    # can pass 1 s. Each new timeout artifact is replayed three times in one process and the fastest
+    # of the last two (the first pays the target's one-time set-up) is printed next to the limit,
+    # so that a load artifact is told from a slow input. It stays counted as a finding.
+    local f ms
+    for f in $(printf '%s\n' "$new_findings" | grep '/timeout-' || true); do
+        ms=$("$exe" "$f" "$f" "$f" 2>&1 |
+             awk '/^Executed .* in [0-9]+ ms/ { n++; if (n > 1 && (best == "" || $(NF - 1) + 0 < best)) best = $(NF - 1) + 0 }
+                  END { print best == "" ? "?" : best }') || ms="?"
+        echo "fuzz.sh: $(basename "$f") replays alone in $ms ms (limit ${per_input} s)" >&2
+    done
+    echo "fuzz.sh: fuzz_$target: $execs executions, $rate exec/s, cov $cov ft $ft, $crashes finding(s)" >&2
+}
 
-if [ "$record" = 1 ]; then
-    doc=$root/docs/reliability.md
+# record_row: rewrites the row of this target and build in the table of runs of docs/reliability.md.
+record_row() {
+    local build_kind bound_text parts_text row
     build_kind=$([ "$preset" = fuzz ] && echo "ASan+UBSan" || echo "no sanitizers")
     bound_text=${runs:+"$runs runs"}
     bound_text=${bound_text:-"$minutes min"}
     parts_text=$([ "$c_parts" = 1 ] && echo "one part" || echo "$c_parts parts")
-    [ "$resume" = 0 ] || bound_text="$bound_text in $parts_text (one executable, built from $c_commit)"
+    if [ "$resume" = 1 ]; then
+        local machines_text
+        machines_text=$([ "$c_machines" = 1 ] && echo "" || echo " on $c_machines machines")
+        bound_text="$bound_text in $parts_text$machines_text (one executable, built from $c_commit)"
+    fi
     [ "$keep_going" = 0 ] || bound_text="$bound_text, fork mode"
     [ "$per_input" = 1 ] || bound_text="$bound_text, ${per_input} s per input"
     [ "$stopped" = 0 ] || [ "$resume" = 1 ] || bound_text="$bound_text, stopped by a signal"
-    date=$(date -u +%Y-%m-%d)
-    row="| $target | $build_kind | $execs | $rate | $cov | $ft | $crashes | $bound_text | $date |"
-    python3 - "$doc" "$target" "$build_kind" "$row" <<'PY'
+    row="| $target | $build_kind | $execs | $rate | $cov | $ft | $crashes | $bound_text | $(date -u +%Y-%m-%d) |"
+    python3 - "$root/docs/reliability.md" "$target" "$build_kind" "$row" <<'PY'
 import pathlib, sys
 doc, target, build, row = pathlib.Path(sys.argv[1]), sys.argv[2], sys.argv[3], sys.argv[4]
 begin, end = "<!-- fuzz-runs:begin -->", "<!-- fuzz-runs:end -->"
@@ -298,5 +399,100 @@ rows.sort(key=key)
 doc.write_text(head + begin + "\n" + "\n".join(header + rows) + "\n" + end + tail, encoding="utf-8")
 PY
     echo "fuzz.sh: recorded in docs/reliability.md" >&2
+}
+
+# record_campaigns: rewrites the table of campaigns under way in docs/reliability.md from the
+# committed states (tests/fuzz/campaigns).
+record_campaigns() {
+    python3 - "$root/docs/reliability.md" "$root/tests/fuzz/campaigns" <<'PY'
+import pathlib, shlex, sys
+doc, states = pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2])
+begin, end = "<!-- fuzz-campaigns:begin -->", "<!-- fuzz-campaigns:end -->"
+rows = ["| target | build | executions | of | parts | machines | hours | findings | executable built from | started | last part | command |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---|---|---|---|"]
+kinds = {"fuzz": "ASan+UBSan", "fuzz-nosan": "no sanitizers"}
+for f in sorted(states.glob("*/*")):
+    if f.is_dir() or f.parent.name not in kinds:
+        continue
+    s = {}
+    for line in f.read_text().splitlines():
+        if line.startswith("c_") and "=" in line:
+            k, v = line.split("=", 1)
+            s[k[2:]] = " ".join(shlex.split(v)) if v else ""
+    rows.append("| {} | {} | {} | {} | {} | {} | {:.1f} | {} | {}{} | {} | {} | `{}` |".format(
+        f.name, kinds[f.parent.name], s.get("execs", "?"), s.get("runs", "?"), s.get("parts", "?"),
+        s.get("machines", "?"), int(s.get("seconds", "0")) / 3600, s.get("findings", "?"), s.get("commit", "?"),
+        "" if s.get("clean") == "1" else " (uncommitted changes)", s.get("started", ""), s.get("last", ""),
+        s.get("command", "").replace("|", "\\|")))
+if len(rows) == 2:
+    rows = ["None."]
+text = doc.read_text(encoding="utf-8")
+if begin not in text:
+    sys.exit("docs/reliability.md has no " + begin)
+head, rest = text.split(begin, 1)
+_, tail = rest.split(end, 1)
+doc.write_text(head + begin + "\n" + "\n".join(rows) + "\n" + end + tail, encoding="utf-8")
+PY
+}
+
+if [ "$resume" = 0 ]; then
+    if [ -n "$runs" ]; then
+        # A bounded run starts from the seeds alone, so that it is the same run every time.
+        rm -rf "$work" && mkdir -p "$work"
+        fuzz_once -runs="$runs" -seed=1
+    else
+        fuzz_once -max_total_time=$((minutes * 60))
+    fi
+    [ "$record" = 0 ] || record_row
+    [ "$status" -eq 0 ] && [ "$crashes" -eq 0 ]
+    exit
 fi
-[ "$status" -eq 0 ] && [ "$crashes" -eq 0 ]
+
+# The parts of a campaign: each from the corpus of the parts before on this machine (another
+# seed each: the part's number), its executions, time and findings added to the state.
+parts_run=0 any_finding=0
+while [ "$c_execs" -lt "$c_runs" ] && [ "$stop_asked" = 0 ]; do
+    if [ -n "$max_parts" ] && [ "$parts_run" -ge "$max_parts" ]; then break; fi
+    left=$((c_runs - c_execs))
+    [ -z "$part_runs" ] || [ "$part_runs" -ge "$left" ] || left=$part_runs
+    fuzz_once -runs="$left" -seed="$((c_parts + 1))" -max_total_time=$((part_minutes * 60))
+    parts_run=$((parts_run + 1))
+    if [ "$execs" -eq 0 ] && [ "$crashes" -eq 0 ] && [ "$stopped" = 0 ]; then
+        echo "fuzz.sh: a part of the campaign executed no input (log above); the campaign stops" >&2
+        exit 2
+    fi
+    c_parts=$((c_parts + 1)) c_execs=$((c_execs + execs)) c_seconds=$((c_seconds + seconds))
+    c_findings=$((c_findings + crashes))
+    if [ -n "$new_findings" ]; then
+        # The artifacts go beside the committed state: they outlive this machine.
+        mkdir -p "$saved.findings"
+        printf '%s\n' "$new_findings" | while IFS= read -r f; do cp -p "$f" "$saved.findings/"; done
+    fi
+    if [ "$crashes" -gt 0 ]; then any_finding=1; fi
+    save_state
+    echo "fuzz.sh: campaign of fuzz_$target: $c_execs of $c_runs executions in $c_parts part(s)," \
+         "$c_findings finding(s)" >&2
+    [ "$record" = 0 ] || [ -n "$state_dir" ] || [ "$c_execs" -ge "$c_runs" ] || record_campaigns
+    # Without --keep-going a finding stops the campaign, as it stops a run.
+    if [ "$crashes" -gt 0 ] && [ "$keep_going" = 0 ]; then break; fi
+    if [ "$stopped" = 1 ]; then break; fi
+done
+if [ "$c_execs" -ge "$c_runs" ]; then
+    echo "fuzz.sh: campaign of fuzz_$target done: $c_execs executions in $c_parts part(s) on $c_machines" \
+         "machine(s), $c_findings finding(s)" >&2
+    execs=$c_execs crashes=$c_findings
+    rate=$((c_seconds > 0 ? c_execs / c_seconds : 0))
+    mv "$campaign" "$campaign.done-$(date -u +%Y%m%d%H%M%S)"
+    # The committed state goes (a finished campaign is its row); its findings stay until triaged.
+    rm -f "$saved"
+    if [ "$record" = 1 ] && [ -z "$state_dir" ]; then
+        record_row
+        record_campaigns
+    fi
+    [ "$c_findings" -eq 0 ]
+    exit
+fi
+echo "fuzz.sh: campaign of fuzz_$target: run the same command to go on" >&2
+[ "$any_finding" = 0 ]
+exit
+}
