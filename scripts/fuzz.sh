@@ -146,7 +146,7 @@ if [ -n "$state_dir" ]; then
     campaign=$state_dir/machine/$preset/$target saved=$state_dir/$preset/$target
 fi
 c_runs=0 c_execs=0 c_seconds=0 c_findings=0 c_parts=0 c_machines=0 c_commit="" c_clean=0 c_sha256=""
-c_toolchain="" c_started="" c_last="" c_command=""
+c_toolchain="" c_started="" c_last="" c_command="" c_srcdir=""
 save_state() {
     local f
     c_last=$(date -u +%Y-%m-%d)
@@ -155,7 +155,8 @@ save_state() {
         printf '# A fuzz campaign of scripts/fuzz.sh --resume (tests/fuzz/README.md); written by the script.\n' >"$f.part"
         printf 'c_%s=%q\n' runs "$c_runs" execs "$c_execs" seconds "$c_seconds" findings "$c_findings" \
             parts "$c_parts" machines "$c_machines" commit "$c_commit" clean "$c_clean" sha256 "$c_sha256" \
-            toolchain "$c_toolchain" started "$c_started" last "$c_last" command "$c_command" >>"$f.part"
+            toolchain "$c_toolchain" started "$c_started" last "$c_last" command "$c_command" \
+            srcdir "$c_srcdir" >>"$f.part"
         mv -f "$f.part" "$f"
     done
 }
@@ -199,8 +200,26 @@ if [ "$resume" = 1 ]; then
                     exit 2
                 }
             fi
-            echo "fuzz.sh: building fuzz_$target of $c_commit in $src" >&2
-            build_target "$src/build/$preset" || exit 2
+            # Sanitizers compile the source's paths into the executable (UBSan's type names and
+            # locations, ASan's globals), so the source is built where the campaign's was: in a
+            # private mount namespace, over the campaign's directory (root only). Without one, a
+            # build in place is the same bytes only without sanitizers (-ffile-prefix-map).
+            if [ -d "$c_srcdir" ] && unshare -m --propagation private true 2>/dev/null; then
+                echo "fuzz.sh: building fuzz_$target of $c_commit from $src, as $c_srcdir" >&2
+                mkdir -p "$src/build/$preset"
+                unshare -m --propagation private bash -c \
+                    'mount --bind "$1" "$2" && cd "$2" && cmake --preset "$3" -DSDV_FUZZ_SHARED_DIR="$4" >/dev/null &&
+                     cmake --build "build/$3" --target "fuzz_$5" -j "$(nproc)"' \
+                    _ "$src" "$c_srcdir" "$preset" "$(realpath -m "$root/../shared")" "$target" \
+                    >"$src/build/$preset/fuzz-build-$target.log" 2>&1 || {
+                    tail -30 "$src/build/$preset/fuzz-build-$target.log" >&2
+                    echo "fuzz.sh: building fuzz_$target of $c_commit failed" >&2
+                    exit 2
+                }
+            else
+                echo "fuzz.sh: building fuzz_$target of $c_commit in $src" >&2
+                build_target "$src/build/$preset" || exit 2
+            fi
             exe=$src/build/$preset/fuzz/fuzz_$target
             if [ "$(sha "$exe")" != "$c_sha256" ]; then
                 echo "fuzz.sh: fuzz_$target built again from $c_commit is not the campaign's executable" \
@@ -224,6 +243,7 @@ if [ "$resume" = 1 ]; then
         cp -p "$exe" "$campaign/fuzz_$target"
         exe=$campaign/fuzz_$target
         c_runs=$runs c_machines=1 c_started=$(date -u +%Y-%m-%d) c_command="scripts/fuzz.sh ${given[*]}"
+        c_srcdir=$root
         # The commit the executable was built from: HEAD, when no tracked file differs from it
         # (but the ones this script writes); otherwise the campaign can go on only where the
         # same bytes are built (it cannot be built again from a commit).
@@ -316,6 +336,9 @@ fuzz_once() {
     done
     fuzzer_pid=""
     seconds=$((SECONDS - started))
+    # A child of fork mode outlives its parent stopped by a signal (it ran on for minutes): stop
+    # every process of this executable still running.
+    pkill -TERM -f "^$exe( |\$)" 2>/dev/null || true
     cat "$logs"/fuzz-*.log >"$logs/all.log" 2>/dev/null || true
     cat "$logs/main.log" >>"$logs/all.log"
     after=$(find "$findings" -type f | wc -l)
