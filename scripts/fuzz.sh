@@ -204,9 +204,13 @@ if [ "$resume" = 1 ]; then
             # locations, ASan's globals), so the source is built where the campaign's was: in a
             # private mount namespace, over the campaign's directory (root only). Without one, a
             # build in place is the same bytes only without sanitizers (-ffile-prefix-map).
-            if [ -d "$c_srcdir" ] && unshare -m --propagation private true 2>/dev/null; then
+            if [ -n "$c_srcdir" ] && unshare -m --propagation private true 2>/dev/null; then
                 echo "fuzz.sh: building fuzz_$target of $c_commit from $src, as $c_srcdir" >&2
                 mkdir -p "$src/build/$preset"
+                # The campaign's source directory may be gone from this machine: an empty
+                # directory serves as the mount point while the build runs.
+                made_srcdir=0
+                [ -d "$c_srcdir" ] || { mkdir -p "$c_srcdir" && made_srcdir=1; }
                 unshare -m --propagation private bash -c \
                     'mount --bind "$1" "$2" && cd "$2" && cmake --preset "$3" -DSDV_FUZZ_SHARED_DIR="$4" >/dev/null &&
                      cmake --build "build/$3" --target "fuzz_$5" -j "$(nproc)"' \
@@ -214,8 +218,10 @@ if [ "$resume" = 1 ]; then
                     >"$src/build/$preset/fuzz-build-$target.log" 2>&1 || {
                     tail -30 "$src/build/$preset/fuzz-build-$target.log" >&2
                     echo "fuzz.sh: building fuzz_$target of $c_commit failed" >&2
+                    [ "$made_srcdir" = 0 ] || rmdir "$c_srcdir"
                     exit 2
                 }
+                [ "$made_srcdir" = 0 ] || rmdir "$c_srcdir"
             else
                 echo "fuzz.sh: building fuzz_$target of $c_commit in $src" >&2
                 build_target "$src/build/$preset" || exit 2
@@ -243,16 +249,19 @@ if [ "$resume" = 1 ]; then
         cp -p "$exe" "$campaign/fuzz_$target"
         exe=$campaign/fuzz_$target
         c_runs=$runs c_machines=1 c_started=$(date -u +%Y-%m-%d) c_command="scripts/fuzz.sh ${given[*]}"
-        c_srcdir=$root
-        # The commit the executable was built from: HEAD, when no tracked file differs from it
-        # (but the ones this script writes); otherwise the campaign can go on only where the
-        # same bytes are built (it cannot be built again from a commit).
-        c_commit=$(git -C "$root" rev-parse --short=12 HEAD)
+        # The source the executable was built from (--build-dir may be another checkout's build).
+        c_srcdir=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$build/CMakeCache.txt" 2>/dev/null)
+        c_srcdir=${c_srcdir:-$root}
+        # The commit: that checkout's HEAD, when no tracked file differs from it (but the ones
+        # this script writes); otherwise the campaign can go on only where the same bytes are
+        # built (it cannot be built again from a commit).
+        c_commit=$(git -C "$c_srcdir" rev-parse --short=12 HEAD 2>/dev/null) || c_commit=unknown
         c_clean=1
-        if [ -n "$(git -C "$root" status --porcelain --untracked-files=no -- . ':!tests/fuzz/campaigns' \
+        if [ "$c_commit" = unknown ] ||
+           [ -n "$(git -C "$c_srcdir" status --porcelain --untracked-files=no -- . ':!tests/fuzz/campaigns' \
                    ':!docs/reliability.md')" ]; then
             c_clean=0
-            echo "fuzz.sh: warning: the tree has uncommitted changes: this campaign can go on only where" \
+            echo "fuzz.sh: warning: $c_srcdir has uncommitted changes: this campaign can go on only where" \
                  "its executable's bytes are built again (commit first to run it on any machine)" >&2
         fi
         c_sha256=$(sha "$exe")
