@@ -35,8 +35,9 @@
 # after every part, so a machine that stops loses one part at most. Run the same command again to
 # go on. On a machine without the campaign's copy of its executable (build/PRESET/campaigns/
 # TARGET) the executable is found again by its SHA-256: the current build's if it is the same
-# bytes (builds are independent of their directory), else a build of the commit's source
-# (git archive into build/campaign-src/COMMIT); other bytes are refused. The row is recorded
+# bytes (without sanitizers a build does not depend on its directory), else a build of the
+# commit's source (git archive into build/campaign-src/COMMIT, built as the campaign's source
+# directory in a private mount namespace); other bytes are refused. The row is recorded
 # when the campaign ends, with --record also a row a part in the table of campaigns under way.
 # Exit status: 0 no finding, 1 a finding, 2 usage or build errors.
 # The whole script is one block, read before it runs: a campaign runs for hours, and bash reads a
