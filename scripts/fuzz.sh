@@ -444,7 +444,7 @@ begin, end = "<!-- fuzz-campaigns:begin -->", "<!-- fuzz-campaigns:end -->"
 rows = ["| target | build | executions | of | parts | machines | hours | findings | executable built from | started | last part | command |",
         "|---|---|---:|---:|---:|---:|---:|---:|---|---|---|---|"]
 kinds = {"fuzz": "ASan+UBSan", "fuzz-nosan": "no sanitizers"}
-for f in sorted(states.glob("*/*")):
+for f in sorted(states.glob("*/*"), key=lambda f: (f.name, f.parent.name)):
     if f.is_dir() or f.parent.name not in kinds:
         continue
     s = {}
