@@ -315,33 +315,33 @@ Recording parse_interaction(const std::string& csv, const std::string& path) {
             continue;
         }
         if (std::isnan(t0)) t0 = *ms;
+        // A track is kept with its first state that is read: a row refused for its values adds
+        // no track (a track always has states).
         auto it = index.find(id);
+        Track added;
         if (it == index.end()) {
             if (r.tracks.size() >= kMaxTracks) {
                 r.errors.push_back(where + "more than " + std::to_string(kMaxTracks) + " tracks");
                 return r;
             }
-            Track tr;
-            tr.id = id;
-            tr.type = col.count("agent_type") ? cells[col["agent_type"]] : "car";
-            if (tr.type.empty()) tr.type = "car";
-            if (tr.pedestrian()) tr.length = tr.width = 0.5;
+            added.id = id;
+            added.type = col.count("agent_type") ? cells[col["agent_type"]] : "car";
+            if (added.type.empty()) added.type = "car";
+            if (added.pedestrian()) added.length = added.width = 0.5;
             // INTERACTION leaves length and width empty for pedestrians and bicycles: the defaults.
-            const catalog::AgentSize max = tr.pedestrian() ? catalog::kMaxPedestrianSize : catalog::kMaxVehicleSize;
+            const catalog::AgentSize max = added.pedestrian() ? catalog::kMaxPedestrianSize : catalog::kMaxVehicleSize;
             const auto l = num("length"), w = num("width");
             if ((l && !(*l > 0 && *l <= max.length)) || (w && !(*w > 0 && *w <= max.width))) {
                 r.errors.push_back(where + "track " + id + ": length and width must be in (0, " + format_number(max.length) + "] m and (0, " +
-                                   format_number(max.width) + "] m, the size of " + (tr.pedestrian() ? "a pedestrian" : "a vehicle") +
-                                   " (" + tr.type + ")");
+                                   format_number(max.width) + "] m, the size of " + (added.pedestrian() ? "a pedestrian" : "a vehicle") +
+                                   " (" + added.type + ")");
                 if (r.errors.size() >= 20) return r;
                 continue;
             }
-            if (l) tr.length = *l;
-            if (w) tr.width = *w;
-            it = index.emplace(id, r.tracks.size()).first;
-            r.tracks.push_back(std::move(tr));
+            if (l) added.length = *l;
+            if (w) added.width = *w;
         }
-        Track& tr = r.tracks[it->second];
+        const Track& tr = it == index.end() ? added : r.tracks[it->second];
         State s;
         s.t = (*ms - t0) / 1000.0;
         s.x = *x;
@@ -364,7 +364,11 @@ Recording parse_interaction(const std::string& csv, const std::string& path) {
             r.errors.push_back(where + "more than " + std::to_string(kMaxStates * 10) + " states");
             return r;
         }
-        tr.states.push_back(s);
+        if (it == index.end()) {
+            it = index.emplace(id, r.tracks.size()).first;
+            r.tracks.push_back(std::move(added));
+        }
+        r.tracks[it->second].states.push_back(s);
     }
     // Time steps: the most common difference between consecutive states.
     std::map<long long, int> steps;

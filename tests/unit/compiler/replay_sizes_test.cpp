@@ -217,3 +217,43 @@ TEST_CASE("a recorded vehicle's speed is one a scenario's vehicle may start with
         }
     }
 }
+
+// Finding 32: the check of finding 31 came after the track was added, so a track whose only row
+// was refused for its speed was kept without a state (the campaign of 770002a without sanitizers,
+// at about a million executions). A refused row adds no state and no track, wherever it is.
+TEST_CASE("an INTERACTION row the reader refuses adds no state and no track, at every position") {
+    const double max = catalog::kMaxVehicleSpeed;
+    for (int rows = 1; rows <= 4; ++rows) {
+        for (int refused = 0; refused < rows; ++refused) {
+            for (const std::string why : {"speed", "size", "time"}) {
+                CAPTURE(rows);
+                CAPTURE(refused);
+                CAPTURE(why);
+                std::string csv = "track_id,frame_id,timestamp_ms,agent_type,x,y,vx,vy,psi_rad,length,width\n";
+                for (int k = 0; k < rows; ++k) {
+                    const bool bad = k == refused;
+                    const std::string vx = bad && why == "speed" ? std::to_string(max + 1) : "10";
+                    const std::string length = bad && why == "size" ? "40" : "4.5";
+                    const int ms = bad && why == "time" && k > 0 ? 0 : 100 * k;
+                    csv += "7," + std::to_string(k) + "," + std::to_string(ms) + ",car," + std::to_string(20 + k) + ",-1.75," +
+                           vx + ",0,0," + length + ",1.8\n";
+                }
+                // Another track after it, read whatever happened to the first.
+                csv += "8,0,0,car,60,-1.75,10,0,0,4.5,1.8\n8,1,100,car,61,-1.75,10,0,0,4.5,1.8\n";
+                const auto rec = realism::parse_interaction(csv, "t.csv");
+                // A length is read from a track's first row only, and the first row has no time
+                // before it: a later row of another size, or a first row at time 0, is no error.
+                const bool refuses = why == "speed" || (why == "size" && refused == 0) || (why == "time" && refused > 0);
+                CHECK(rec.errors.size() == (refuses ? 1u : 0u));
+                size_t states7 = 0;
+                for (const auto& t : rec.tracks) {
+                    CHECK(!t.states.empty());
+                    if (t.id == "7") states7 = t.states.size();
+                }
+                const size_t kept = static_cast<size_t>(refuses ? rows - 1 : rows);
+                CHECK(states7 == kept);
+                CHECK(rec.tracks.size() == (kept > 0 ? 2u : 1u));
+            }
+        }
+    }
+}
