@@ -5,19 +5,26 @@
 # sanitizer build is the asan preset). The last line is CTest's summary.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# Each stage prints its seconds ("stage NAME: N s"); the last, CTest under ASan+UBSan, its own.
 bash scripts/install-deps.sh --tests
 # playwright-core for the browser test of `sdv view` (from package-lock.json; needs the npm
 # registry; without it that test fails with a message saying so).
 npm ci --prefix tests/browser --no-audit --no-fund --loglevel=error || echo "warning: npm ci failed: the browser tests will fail"
 jobs="$(nproc)"
 cmake --preset ci >/dev/null
+stage_start=$SECONDS
 cmake --build --preset ci -j "$jobs"
+echo "stage ci build: $((SECONDS - stage_start)) s"
+stage_start=$SECONDS
 ctest --preset ci -j "$jobs"
+echo "stage ci tests: $((SECONDS - stage_start)) s"
 # The sanitizer build (the fuzz preset: clang, ASan+UBSan, libFuzzer's coverage in every
 # library) builds the libFuzzer targets and every test once, for both stages below.
 cmake --preset fuzz >/dev/null
+stage_start=$SECONDS
 cmake --build --preset fuzz -j "$jobs" >build/fuzz-build.log 2>&1 ||
     { tail -40 build/fuzz-build.log; echo "building the sanitizer build (fuzz preset) failed"; exit 1; }
+echo "stage sanitizer build: $((SECONDS - stage_start)) s"
 # Fuzz stage (tests/fuzz/README.md): every libFuzzer target over its seed corpus plus a fixed
 # number of new inputs, two targets at a time; a crash, a leak, undefined behaviour, an input
 # over 1 s or 2 GB fails CI. Count bounded, never time bounded: the same inputs on every run.
@@ -32,7 +39,7 @@ if [ "${SDV_SKIP_FUZZ:-0}" != 1 ]; then
     printf '%s\n' "${fuzz_targets[@]}" | xargs -P "$jobs" -I{} sh -c \
         'scripts/fuzz.sh {} --ci --corpus build/fuzz/corpus-ci > build/fuzz/ci-logs/{}.log 2>&1' || fuzz_ok=0
     grep -h "^fuzz.sh: fuzz_.*executions" build/fuzz/ci-logs/*.log || true
-    echo "fuzz stage: $((SECONDS - fuzz_start)) s"
+    echo "stage fuzz: $((SECONDS - fuzz_start)) s"
     if [ $fuzz_ok = 0 ]; then
         grep -h -E "FINDING|ERROR|runtime error|sdv fuzz:|ALARM|failed|^    /" build/fuzz/ci-logs/*.log | head -40
         echo "fuzz stage failed (logs: build/fuzz/ci-logs; replay a finding: build/fuzz/fuzz/fuzz_TARGET FILE)"
