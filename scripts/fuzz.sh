@@ -162,6 +162,14 @@ save_state() {
     done
 }
 sha() { sha256sum "$1" | cut -c1-64; }
+# The state beside the checkout is the campaign's: it is written with the machine's copy after
+# every part and removed at the end. A copy without it is of a campaign that was ended or
+# deleted there (or of a script before committed states): left aside, not resumed.
+if [ "$resume" = 1 ] && [ -f "$campaign/state" ] && [ ! -f "$saved" ]; then
+    echo "fuzz.sh: $campaign is of a campaign without a state in $(dirname "$saved") (ended or deleted there):" \
+         "starting a new campaign" >&2
+    rm -rf "$campaign"
+fi
 # A campaign under way on this machine runs its own copy: nothing to build.
 if [ "$build_it" = 1 ] && { [ "$resume" = 0 ] || [ ! -f "$campaign/state" ]; }; then
     build_target "$build" || exit 2

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # A fuzz campaign in parts (scripts/fuzz.sh --resume, tests/fuzz/README.md), on the ir_reader
 # target of a built fuzz preset: parts add up, a machine that lost the campaign's copy finds its
-# executable again by its SHA-256 and goes on, the end is counted once, and what cannot go on
-# is refused with the reason.
+# executable again by its SHA-256 and goes on, the end is counted once, what cannot go on is
+# refused with the reason, and a machine's copy of an ended campaign is not resumed.
 #   campaign_test.sh SOURCE_DIR BUILD_DIR PRESET
 # The state lives in a scratch directory (--state-dir), so nothing of the checkout changes.
 set -uo pipefail
@@ -86,6 +86,17 @@ sed -i "s/^c_clean=.*/c_clean=1/; s/^c_commit=.*/c_commit=0000000000ff/" "$tmp/s
 fuzz --runs 100000000 --parts 1 >"$tmp/6.log" 2>&1
 check "a campaign of a commit this repository does not have is refused" [ $? = 2 ]
 check "  saying why" grep -q "no commit 0000000000ff in this repository" "$tmp/6.log"
+
+# A campaign ended or deleted where its state is kept (its state removed, as by git rm) leaves
+# this machine's copy behind: the next run of the same command is a new campaign, not the copy's.
+rm -rf "$tmp/state"
+fuzz --runs 2000 --part-runs 1000 --parts 1 >"$tmp/7.log" 2>&1
+rm "$tmp/state/$preset/ir_reader"
+fuzz --runs 2000 --part-runs 1000 --parts 1 >"$tmp/8.log" 2>&1
+check "a machine's copy without its state is not resumed" [ $? = 0 ]
+check "  saying so" grep -q "without a state in .*: starting a new campaign" "$tmp/8.log"
+check "  and the new campaign has one part of 1,000 on one machine" \
+    [ "$(state execs)/$(state parts)/$(state machines)" = 1000/1/1 ]
 
 if [ "$fail" != 0 ]; then
     for f in "$tmp"/*.log; do echo "== $(basename "$f")"; tail -n 15 "$f"; done
