@@ -42,5 +42,15 @@ for f in "$root"/runtime/sim/*.cpp "$root"/runtime/sim/*.h; do
         fail=1
     fi
 done
+# Every unit-test file keeps its code in a namespace named after it (`namespace road_grid_test {`
+# for road_grid_test.cpp): the files of a test executable are compiled in unity batches
+# (cmake/SdvTargets.cmake), where two files' helpers of one name would collide.
+for f in "$root"/tests/unit/*/*_test.cpp; do
+    stem=$(basename "$f" .cpp)
+    if ! grep -qx "namespace $stem {" "$f" || ! grep -qx "}  // namespace $stem" "$f"; then
+        echo "FAIL: ${f#$root/} does not keep its code in 'namespace $stem { ... }  // namespace $stem'"
+        fail=1
+    fi
+done
 [ $fail -eq 0 ] && echo "layers respected"
 exit $fail

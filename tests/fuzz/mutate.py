@@ -2,9 +2,13 @@
 """Seeded mutation fuzzing: mutate.py SDV ROOT N. For every example and stdlib file, N mutants
 (byte flips, deletions, duplications, token swaps, truncations, deep nesting) go through `sdv lint`;
 for the IR of each example, N mutants go through `sdv check-ir`. Any exit code other than 0/1, or
-a time-out, is a failure. Deterministic (fixed seed), so a failure reproduces."""
+a time-out, is a failure. Deterministic (fixed seed), so a failure reproduces; the mutants run on
+every core."""
+import concurrent.futures
+import os
 import pathlib
 import random
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -47,21 +51,32 @@ def run(args, path):
     return None if p.returncode in (0, 1) else f"exit {p.returncode}: {p.stderr.decode(errors='replace')[-300:]}"
 
 
+def check(job):
+    """Runs one mutant; returns its failure message or None."""
+    label, args, path, keep = job
+    err = run(args, str(path))
+    if not err:
+        return None
+    if keep:
+        shutil.copyfile(path, tmp.parent / keep)
+        return f"{label} ({tmp.parent / keep}): {err}"
+    return f"{label}: {err}"
+
+
+# The mutants are drawn in one fixed order from one seeded generator and written to files of
+# their own, then run on every core; failures are reported in that order, so a run is the same
+# whatever the number of cores.
 failures = []
-count = 0
 with tempfile.TemporaryDirectory() as tmp:
     tmp = pathlib.Path(tmp)
+    jobs = []
     sources = sorted((root / "examples").glob("*.sdv")) + sorted((root / "stdlib-trees").glob("*.sdv"))
     for src in sources:
         data = src.read_bytes()
         for k in range(n):
             m = tmp / f"m_{src.stem}_{k}.sdv"
             m.write_bytes(mutate(data))
-            count += 1
-            if (err := run(["lint"], str(m))):
-                keep = tmp.parent / f"sdv_fuzz_{src.stem}_{k}.sdv"
-                keep.write_bytes(m.read_bytes())
-                failures.append(f"lint {src.name} mutant {k} ({keep}): {err}")
+            jobs.append((f"lint {src.name} mutant {k}", ["lint"], m, f"sdv_fuzz_{src.stem}_{k}.sdv"))
     for src in sorted((root / "examples").glob("*.sdv")):
         ir = tmp / f"{src.stem}.sdvir"
         subprocess.run([sdv, "compile", str(src), "-o", str(ir)], capture_output=True, check=True)
@@ -69,11 +84,9 @@ with tempfile.TemporaryDirectory() as tmp:
         for k in range(n):
             m = tmp / f"m_{src.stem}_{k}.sdvir"
             m.write_bytes(mutate(data))
-            count += 1
-            if (err := run(["check-ir"], str(m))):
-                failures.append(f"check-ir {src.name} mutant {k}: {err}")
+            jobs.append((f"check-ir {src.name} mutant {k}", ["check-ir"], m, None))
     # GeoScenario inputs: every .btree of the reference's library (mutated in a copy of the
-    # library, so that subtrees resolve) and every scenario.
+    # library, so that subtrees resolve; a copy per mutant) and every scenario.
     gss = root.resolve().parent / "shared" / "data" / "geoscenario"
     if gss.is_dir():
         lib = tmp / "btrees"
@@ -85,23 +98,21 @@ with tempfile.TemporaryDirectory() as tmp:
         for name, data in originals.items():
             for k in range(max(1, n // 3)):
                 mutant = mutate(data) if k % 10 else data + deep
-                (lib / name).write_bytes(mutant)
-                count += 1
-                if (err := run(["lint"], str(lib / name))):
-                    keep = tmp.parent / f"sdv_fuzz_{k}_{name}"
-                    keep.write_bytes(mutant)
-                    failures.append(f"lint {name} mutant {k} ({keep}): {err}")
-            (lib / name).write_bytes(data)
+                copy = tmp / f"btrees_{name}_{k}"
+                shutil.copytree(lib, copy)
+                (copy / name).write_bytes(mutant)
+                jobs.append((f"lint {name} mutant {k}", ["lint"], copy / name, f"sdv_fuzz_{k}_{name}"))
         for src in sorted((gss / "scenarios").glob("*.osm")):
             data = src.read_bytes()
             for k in range(max(1, n // 10)):
-                m = tmp / src.name
-                m.write_bytes(mutate(data))
-                count += 1
-                if (err := run(["lint", "--btree-path", str(lib), "--map-dir", str(gss)], str(m))):
-                    keep = tmp.parent / f"sdv_fuzz_{k}_{src.name}"
-                    keep.write_bytes(m.read_bytes())
-                    failures.append(f"lint {src.name} mutant {k} ({keep}): {err}")
+                d = tmp / f"osm_{src.stem}_{k}"
+                d.mkdir()
+                (d / src.name).write_bytes(mutate(data))
+                jobs.append((f"lint {src.name} mutant {k}", ["lint", "--btree-path", str(lib), "--map-dir", str(gss)],
+                             d / src.name, f"sdv_fuzz_{k}_{src.name}"))
+    with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+        failures = [f for f in pool.map(check, jobs) if f]
+    count = len(jobs)
 print(f"{count} mutants, {len(failures)} failures")
 for f in failures[:20]:
     print("FAIL", f)

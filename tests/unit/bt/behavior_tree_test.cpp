@@ -8,6 +8,9 @@
 
 #include "runtime/bt/behavior_tree.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace behavior_tree_test {
+
 using namespace sdv;
 using bt::Status;
 
@@ -232,3 +235,5 @@ TEST_CASE("trace lists visited nodes with their status, children first") {
     CHECK(trace[2].node == 0);
     CHECK(trace[2].status == Status::success);
 }
+
+}  // namespace behavior_tree_test

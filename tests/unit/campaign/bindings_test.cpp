@@ -12,6 +12,9 @@
 #include "runtime/campaign/variants.h"
 #include "runtime/ir/bindings.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace bindings_test {
+
 using namespace sdv;
 
 namespace {
@@ -120,3 +123,5 @@ TEST_CASE("a variant's IR is the compiled IR plus bindings, on every kind of var
         CHECK(ir::scenario_number_values(applied, 0) == base_numbers);
     }
 }
+
+}  // namespace bindings_test

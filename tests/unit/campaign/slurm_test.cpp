@@ -21,6 +21,9 @@
 
 #include "runtime/campaign/slurm.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace slurm_test {
+
 using namespace sdv::campaign;
 
 namespace {
@@ -280,3 +283,5 @@ TEST_CASE("slurm_run: sbatch's own error is the message") {
           "failed: Invalid partition name specified");
     CHECK(out.job_id.empty());
 }
+
+}  // namespace slurm_test

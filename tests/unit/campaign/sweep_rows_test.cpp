@@ -19,6 +19,9 @@
 #include "tests/unit/io/csv_lines.h"
 #include "tests/unit/io/temp_dir.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace sweep_rows_test {
+
 using namespace sdv;
 
 namespace {
@@ -260,3 +263,5 @@ TEST_CASE("damaged rows are named by gather, run again on a resume, and leave re
         CHECK(got.lines == want.lines);
     }
 }
+
+}  // namespace sweep_rows_test

@@ -14,6 +14,9 @@
 #include "runtime/campaign/sweep.h"
 #include "tests/unit/io/compile_text.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace sweep_slices_test {
+
 using namespace sdv;
 
 namespace {
@@ -94,3 +97,5 @@ TEST_CASE("slices started at the same moment in one directory all run, and gathe
         std::filesystem::remove_all(dir, ec);
     }
 }
+
+}  // namespace sweep_slices_test

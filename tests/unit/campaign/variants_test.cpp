@@ -8,6 +8,9 @@
 
 #include "runtime/campaign/variants.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace variants_test {
+
 using namespace sdv;
 
 namespace {
@@ -118,3 +121,5 @@ TEST_CASE("the normal quantile inverts the normal distribution") {
         CHECK(0.5 * std::erfc(-x / std::sqrt(2.0)) == doctest::Approx(p).epsilon(1e-9));
     }
 }
+
+}  // namespace variants_test

@@ -16,6 +16,9 @@
 
 #include "include/sdv/sdv.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace capi_test {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -353,3 +356,5 @@ TEST_CASE("events: an NPC's maneuver changes and the end of the run, drained in 
     CHECK(maneuver);
     sdv_destroy(h);
 }
+
+}  // namespace capi_test

@@ -6,6 +6,9 @@
 
 #include "runtime/catalog/catalog.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace catalog_test {
+
 using namespace sdv::catalog;
 
 TEST_CASE("default candidate counts match SPEC 3.6") {
@@ -122,3 +125,5 @@ TEST_CASE("a parameter's allowed range in words says what accepts() takes") {
         for (const auto& q : c.params) check(q);
     }
 }
+
+}  // namespace catalog_test

@@ -7,6 +7,9 @@
 
 #include "runtime/catalog/catalog.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace expectation_defs_test {
+
 using namespace sdv::catalog;
 
 TEST_CASE("expectation kinds index the table in order") {
@@ -29,3 +32,5 @@ TEST_CASE("every expectation names its metric, and min_gap is the same-lane bump
     CHECK_FALSE(find_expectation("fallback_share")->windowed);
     CHECK(find_expectation("min_acc")->windowed);
 }
+
+}  // namespace expectation_defs_test

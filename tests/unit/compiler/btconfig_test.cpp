@@ -22,6 +22,9 @@
 #include "compiler/sema/compile.h"
 #include "runtime/ir/ir_io.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace btconfig_test {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -267,3 +270,5 @@ TEST_CASE("btconfig and subtree overrides reconfigure the nodes the reference's 
     CHECK(deep[1] > 5);
     CHECK(deep[2] > 5);
 }
+
+}  // namespace btconfig_test

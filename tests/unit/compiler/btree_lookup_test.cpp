@@ -21,6 +21,9 @@
 #include "compiler/diag/source_manager.h"
 #include "compiler/gss/scenario.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace btree_lookup_test {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -161,3 +164,5 @@ TEST_CASE("--btree-path comes first, and a vehicle's tree is never taken from sp
     CHECK(moved.diagnostics.find("error[E0905]") != std::string::npos);
     CHECK(moved.diagnostics.find((l.root / "btrees").string()) != std::string::npos);
 }
+
+}  // namespace btree_lookup_test

@@ -10,6 +10,9 @@
 #include "runtime/ir/ir_io.h"
 #include "compiler/sema/compile.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace compile_test {
+
 using namespace sdv;
 
 namespace {
@@ -192,3 +195,5 @@ TEST_CASE("IR reader messages") {
     flipped.replace(flipped.find("\"seed\": 0"), 9, "\"seed\": 5");
     CHECK(ir::read_ir(flipped).error.find("IR file is corrupted: content hash mismatch") == 0);
 }
+
+}  // namespace compile_test

@@ -14,6 +14,9 @@
 #include "compiler/diag/diagnostic_engine.h"
 #include "compiler/diag/render.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace diagnostic_engine_test {
+
 using namespace sdv::diag;
 
 namespace {
@@ -192,3 +195,5 @@ TEST_CASE("a warning past the limit or disabled is a scratch diagnostic, never r
     CHECK(diags.warning_count() == 5);
     CHECK(!diags.has_errors());
 }
+
+}  // namespace diagnostic_engine_test

@@ -16,6 +16,9 @@
 #include "compiler/syntax/format.h"
 #include "compiler/syntax/parser.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace format_test {
+
 using namespace sdv;
 namespace fs = std::filesystem;
 
@@ -129,3 +132,5 @@ TEST_CASE("format parses exactly what parse accepts and reports what parse repor
     CHECK(refused > 150);
     CHECK(formatted > 50);
 }
+
+}  // namespace format_test

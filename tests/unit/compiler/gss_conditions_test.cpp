@@ -22,6 +22,9 @@
 #include "compiler/gss/scenario.h"
 #include "compiler/sema/compile.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace gss_conditions_test {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -166,3 +169,5 @@ TEST_CASE("random .btree tree shapes convert to text that compiles or are refuse
     CHECK(accepted > 500);
     CHECK(unreachable > 20);
 }
+
+}  // namespace gss_conditions_test

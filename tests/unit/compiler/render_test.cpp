@@ -13,6 +13,9 @@
 #include "compiler/diag/render.h"
 #include "compiler/diag/source_manager.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace render_test {
+
 using namespace sdv::diag;
 
 namespace {
@@ -118,3 +121,5 @@ TEST_CASE("a snippet of a long line is a window of it") {
     CHECK(out.find("| ..." + std::string(60, 'x') + std::string(100, 'x') + "...\n") != std::string::npos);
     CHECK(out.find(std::string(64, ' ') + "^~~\n") != std::string::npos);
 }
+
+}  // namespace render_test

@@ -10,6 +10,9 @@
 #include "compiler/sema/compile.h"
 #include "runtime/ir/ir_io.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace repeat_test {
+
 namespace {
 
 using nlohmann::json;
@@ -196,3 +199,5 @@ TEST_CASE("agent templates: names, limits and arithmetic errors") {
     // Speeds from a length over a time.
     CHECK(codes("vehicle a: sdv { start lane 1 at 50 m speed 100 m / 10 s tree std.drive(speed = 10 m/s) }\n").empty());
 }
+
+}  // namespace repeat_test

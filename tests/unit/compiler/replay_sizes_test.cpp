@@ -21,6 +21,9 @@
 #include "runtime/road/commonroad_reader.h"
 #include "runtime/road/builtin_road.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace replay_sizes_test {
+
 using namespace sdv;
 
 namespace {
@@ -257,3 +260,5 @@ TEST_CASE("an INTERACTION row the reader refuses adds no state and no track, at 
         }
     }
 }
+
+}  // namespace replay_sizes_test

@@ -12,6 +12,9 @@
 #include "compiler/diag/source_manager.h"
 #include "compiler/syntax/parser.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace tokens_test {
+
 using namespace sdv;
 
 namespace {
@@ -102,3 +105,5 @@ TEST_CASE("--emit tokens: every token's line:col is where its text starts") {
     CHECK(tokens > 3000);
     CHECK(after_multibyte > 500);
 }
+
+}  // namespace tokens_test

@@ -6,6 +6,9 @@
 
 #include <cmath>
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace codec_test {
+
 using namespace sdv::cosim;
 
 namespace {
@@ -114,3 +117,5 @@ TEST_CASE("codec: encoding names") {
     CHECK_FALSE(parse_encoding("xml"));
     CHECK(std::string(encoding_name(Encoding::json)) == "json");
 }
+
+}  // namespace codec_test

@@ -11,6 +11,9 @@
 
 #include "runtime/cosim/transport.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace framing_test {
+
 using namespace sdv::cosim;
 
 namespace {
@@ -166,3 +169,5 @@ TEST_CASE("framing: frames over a pipe and a file (no socket)") {
     CHECK(read_frame(r.fd(), got, deadline_after(5)).status == FrameStatus::ok);
     CHECK(got == "through a pipe");
 }
+
+}  // namespace framing_test

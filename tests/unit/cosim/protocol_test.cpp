@@ -10,6 +10,9 @@
 #include "cosim_fixture.h"
 #include "runtime/sim/road_cache.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace protocol_test {
+
 using namespace sdv;
 using namespace sdv::cosim;
 using sdv::test::bye;
@@ -491,3 +494,5 @@ TEST_CASE("protocol: random and mutated frames never crash; every reply is a val
     }
     CHECK(replies > 100);
 }
+
+}  // namespace protocol_test

@@ -13,6 +13,9 @@
 #include "cosim_fixture.h"
 #include "runtime/cosim/replay.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace server_test {
+
 using namespace sdv;
 using namespace sdv::cosim;
 
@@ -404,3 +407,5 @@ TEST_CASE("record/replay: sessions that end in an Error replay identically too")
     }
     std::filesystem::remove_all(dir);
 }
+
+}  // namespace server_test

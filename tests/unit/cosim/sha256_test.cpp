@@ -4,6 +4,9 @@
 
 #include <string>
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace sha256_test {
+
 using sdv::cosim::Sha256;
 using sdv::cosim::sha256_hex;
 
@@ -44,3 +47,5 @@ TEST_CASE("sha256: block boundaries (55, 56, 63, 64, 65 bytes) and incremental u
         }
     }
 }
+
+}  // namespace sha256_test

@@ -14,6 +14,9 @@
 
 #include "cosim_fixture.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace transport_test {
+
 using namespace sdv::cosim;
 using sdv::test::temp_dir;
 
@@ -160,3 +163,5 @@ TEST_CASE("transport: the port file is written whole, by rename") {
     CHECK_FALSE(write_file_atomically(dir + "/missing/port", "1\n").empty());
     std::filesystem::remove_all(dir);
 }
+
+}  // namespace transport_test

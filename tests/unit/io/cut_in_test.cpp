@@ -13,6 +13,9 @@
 #include "runtime/sim/simulation.h"
 #include "runtime/sim/world.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace cut_in_test {
+
 using namespace sdv;
 
 namespace {
@@ -102,3 +105,5 @@ TEST_CASE("cut_in runs until its end state: the asked bumper gap and relative sp
         CHECK(result.vehicles[1].fallback_plans == 0);
     }
 }
+
+}  // namespace cut_in_test

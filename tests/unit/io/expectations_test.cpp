@@ -13,6 +13,9 @@
 #include "runtime/io/outputs.h"
 #include "runtime/sim/simulation.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace expectations_test {
+
 using namespace sdv;
 
 namespace {
@@ -182,3 +185,5 @@ TEST_CASE("summary.json gives every vehicle its fallback share and longest stall
         CHECK(vehicle(r, i).contains("longest_stall_s"));
     }
 }
+
+}  // namespace expectations_test

@@ -13,6 +13,9 @@
 #include "runtime/io/gss_outputs.h"
 #include "tests/unit/io/compile_text.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace gss_violations_test {
+
 using namespace sdv;
 
 namespace {
@@ -100,3 +103,5 @@ TEST_CASE("a pedestrian hit: its side and bearing as the reference's geometry gi
         }
     }
 }
+
+}  // namespace gss_violations_test

@@ -13,6 +13,9 @@
 #include "runtime/sim/simulation.h"
 #include "runtime/sim/world.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace lane_change_conflict_test {
+
 using namespace sdv;
 
 namespace {
@@ -104,3 +107,5 @@ TEST_CASE("simultaneous lane changes into one lane: one completes, the other abo
         }
     }
 }
+
+}  // namespace lane_change_conflict_test

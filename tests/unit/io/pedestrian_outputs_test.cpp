@@ -18,6 +18,9 @@
 #include "tests/unit/io/compile_text.h"
 #include "tests/unit/io/temp_dir.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace pedestrian_outputs_test {
+
 using namespace sdv;
 using test::TempDir;
 
@@ -168,3 +171,5 @@ TEST_CASE("sdv plot labels pedestrians and draws crosswalks; sdv view sizes pede
     CHECK(html.find("\"name\":\"car\",\"kind\":\"ego\",\"length\":4.5,\"width\":1.8,") != std::string::npos);
     CHECK(html.find("\"crosswalks\":[{") != std::string::npos);
 }
+
+}  // namespace pedestrian_outputs_test

@@ -15,6 +15,9 @@
 #include "runtime/sim/agents.h"
 #include "runtime/sim/world.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace placement_test {
+
 using namespace sdv;
 
 namespace {
@@ -179,3 +182,5 @@ TEST_CASE("round a loop of 21 lanelets of a Lanelet2 ring road, s grows continuo
     // More than a lap (about 2.6 km): the start lanelet comes round again.
     CHECK(std::count(lanes.begin(), lanes.end(), "-7226") >= 2);
 }
+
+}  // namespace placement_test

@@ -13,6 +13,9 @@
 #include "compiler/sema/compile.h"
 #include "runtime/sim/simulation.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace progress_test {
+
 using namespace sdv;
 namespace fs = std::filesystem;
 
@@ -99,3 +102,5 @@ TEST_CASE("every driven vehicle of every shipped scenario makes progress and rar
     }
     CHECK(runs >= 28);  // 4 examples, 17 NHTSA scenarios, 7 GeoScenario scenarios
 }
+
+}  // namespace progress_test

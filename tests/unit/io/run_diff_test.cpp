@@ -23,6 +23,9 @@
 #include "tests/unit/io/temp_dir.h"
 #include "tests/unit/io/traced_run.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace run_diff_test {
+
 using namespace sdv;
 using test::TempDir;
 using test::cells_of;
@@ -300,3 +303,5 @@ TEST_CASE("the JSON output parses whatever the names hold") {
         check_json(d);
     }
 }
+
+}  // namespace run_diff_test

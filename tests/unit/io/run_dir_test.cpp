@@ -23,6 +23,9 @@
 #include "tests/unit/io/temp_dir.h"
 #include "tests/unit/io/traced_run.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace run_dir_test {
+
 using namespace sdv;
 using test::TempDir;
 using test::cells_of;
@@ -385,3 +388,5 @@ TEST_CASE("a run longer than 100,000 ticks is reported and plotted") {
     CHECK(data["times"].size() == static_cast<size_t>(ticks) + 1);
     CHECK(data["vehicles"][0]["x"].size() == static_cast<size_t>(ticks) + 1);
 }
+
+}  // namespace run_dir_test

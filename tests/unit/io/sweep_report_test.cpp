@@ -13,6 +13,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace sweep_report_test {
+
 using namespace sdv;
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
@@ -257,3 +260,5 @@ TEST_CASE("sweep report: 10,000 variants") {
     CHECK(d["values"][10][11].is_null());
     CHECK(d["values"][5][9999] == doctest::Approx(1.4999));
 }
+
+}  // namespace sweep_report_test

@@ -12,6 +12,9 @@
 #include "runtime/sim/simulation.h"
 #include "runtime/sim/world.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace time_to_arrival_test {
+
 using namespace sdv;
 
 namespace {
@@ -145,3 +148,5 @@ TEST_CASE("latch keeps a condition true once it was: past the junction, time_to_
         CHECK(last.maneuver == (latched ? "near" : "far"));
     }
 }
+
+}  // namespace time_to_arrival_test

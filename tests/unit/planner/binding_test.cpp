@@ -5,6 +5,9 @@
 #include "runtime/catalog/catalog.h"
 #include "runtime/planner/maneuver.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace binding_test {
+
 using namespace sdv;
 
 namespace {
@@ -100,3 +103,5 @@ TEST_CASE("default_config is the catalog's defaults through the binding") {
     CHECK(stop.stop_at == planner::StopTarget::now);
     CHECK_FALSE(stop.stop_position.has_value());
 }
+
+}  // namespace binding_test

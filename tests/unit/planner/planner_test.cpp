@@ -7,6 +7,9 @@
 
 #include "runtime/planner/planner.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace planner_test {
+
 using namespace sdv::planner;
 
 namespace {
@@ -358,3 +361,5 @@ TEST_CASE("passing within the margin of a parked vehicle: driving on is feasible
     auto r = run(cfg, req, {{1, {10, 0, 0, -2.2, 0, 0}, 20, 1.8, true}});
     CHECK(r.record.fallback);
 }
+
+}  // namespace planner_test

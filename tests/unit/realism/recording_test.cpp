@@ -14,6 +14,9 @@
 #include "runtime/road/commonroad_reader.h"
 #include "runtime/road/routing.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace recording_test {
+
 using namespace sdv;
 
 namespace {
@@ -232,3 +235,5 @@ TEST_CASE("the route of every recorded vehicle is a chain of lanes a vehicle can
         }
     }
 }
+
+}  // namespace recording_test

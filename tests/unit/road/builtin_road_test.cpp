@@ -7,6 +7,9 @@
 #include "runtime/road/builtin_road.h"
 #include "runtime/road/routing.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace builtin_road_test {
+
 using namespace sdv::road;
 
 namespace {
@@ -133,3 +136,5 @@ TEST_CASE("locating points on lanes") {
     CHECK(loc.s == doctest::Approx(100).epsilon(1e-6));
     CHECK(loc.d == doctest::Approx(0.25).epsilon(1e-6));
 }
+
+}  // namespace builtin_road_test

@@ -11,6 +11,9 @@
 #include "runtime/road/builtin_road.h"
 #include "runtime/road/lanelet2_reader.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace crosswalk_test {
+
 using namespace sdv::road;
 
 namespace {
@@ -404,3 +407,5 @@ TEST_CASE("find_crossings: a crossing through a shared vertex counts once; the h
     CHECK(net.crosswalks[1].id == 1);
     CHECK(net.crosswalks[2].crossings.empty());
 }
+
+}  // namespace crosswalk_test

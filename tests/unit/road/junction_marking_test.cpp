@@ -12,6 +12,9 @@
 #include "runtime/road/builtin_road.h"
 #include "runtime/road/lanelet2_reader.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace junction_marking_test {
+
 using namespace sdv::road;
 
 namespace {
@@ -106,3 +109,5 @@ TEST_CASE("on the real maps, approaches are never in a junction and what they le
     }
     CHECK(aws == 4);
 }
+
+}  // namespace junction_marking_test

@@ -14,6 +14,9 @@
 #include "runtime/road/lanelet2_reader.h"
 #include "runtime/road/routing.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace lanelet2_rules_test {
+
 using namespace sdv::road;
 
 namespace {
@@ -284,3 +287,5 @@ TEST_CASE("ll2_mapping_example: routes over successors and permitted lane change
         CHECK(net.lane(left).right == kNoLane);
     }
 }
+
+}  // namespace lanelet2_rules_test

@@ -16,6 +16,9 @@
 #include "runtime/road/lanelet2_reader.h"
 #include "runtime/road/routing.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace lanelet2_test {
+
 using namespace sdv::road;
 
 namespace {
@@ -458,3 +461,5 @@ TEST_CASE("a map loads when at most 96 pieces of centre line lie in any 2 m squa
     CHECK(loaded > 5);
     CHECK(refused > 5);
 }
+
+}  // namespace lanelet2_test

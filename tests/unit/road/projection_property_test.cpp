@@ -15,6 +15,9 @@
 #include "runtime/road/builtin_road.h"
 #include "runtime/road/lanelet2_reader.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace projection_property_test {
+
 using namespace sdv::road;
 
 namespace {
@@ -140,3 +143,5 @@ TEST_CASE("points beyond the ends extrapolate along the end tangents") {
         }
     }
 }
+
+}  // namespace projection_property_test

@@ -8,6 +8,9 @@
 
 #include "runtime/road/reference_line.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace reference_line_test {
+
 using namespace sdv::road;
 
 namespace {
@@ -104,3 +107,5 @@ TEST_CASE("bad input gives an error, not a crash") {
     CHECK(!ReferenceLine::build(nan, &why));
     CHECK(why == "non-finite coordinate");
 }
+
+}  // namespace reference_line_test

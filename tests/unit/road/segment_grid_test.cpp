@@ -13,6 +13,9 @@
 
 #include "runtime/road/road_network.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace segment_grid_test {
+
 using namespace sdv::road;
 
 namespace {
@@ -400,3 +403,5 @@ TEST_CASE("find_crossings examines no pair of a crosswalk along a lane, and find
         }
     }
 }
+
+}  // namespace segment_grid_test

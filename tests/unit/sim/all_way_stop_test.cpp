@@ -15,6 +15,9 @@
 #include "runtime/sim/world.h"
 #include "tests/unit/io/compile_text.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace all_way_stop_test {
+
 using namespace sdv;
 
 namespace {
@@ -161,3 +164,5 @@ TEST_CASE("impatient drivers at an all-way stop: out of turn at times, never two
     }
     CHECK(runs[0] == runs[1]);
 }
+
+}  // namespace all_way_stop_test

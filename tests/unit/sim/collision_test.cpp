@@ -7,6 +7,9 @@
 
 #include "runtime/sim/collision.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace collision_test {
+
 using namespace sdv::sim;
 
 TEST_CASE("axis-aligned boxes overlap exactly when they touch") {
@@ -38,3 +41,5 @@ TEST_CASE("impact zones are seen from the first box") {
     CHECK(std::string(impact_zone(a, Box{{0.5, 1.7}, 0, 4.5, 1.8})) == "left");
     CHECK(std::string(impact_zone(a, Box{{0.5, -1.7}, 0, 4.5, 1.8})) == "right");
 }
+
+}  // namespace collision_test

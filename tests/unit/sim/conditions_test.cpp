@@ -4,6 +4,9 @@
 #include "runtime/catalog/catalog.h"
 #include "runtime/sim/leaves.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace conditions_test {
+
 using namespace sdv;
 
 TEST_CASE("the condition table has one function per catalog condition, in catalog order") {
@@ -16,3 +19,5 @@ TEST_CASE("the condition table has one function per catalog condition, in catalo
         CHECK(static_cast<bool>(table[i].fn));
     }
 }
+
+}  // namespace conditions_test

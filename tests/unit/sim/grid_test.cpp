@@ -9,6 +9,9 @@
 
 #include "runtime/sim/grid.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace grid_test {
+
 using namespace sdv::sim;
 
 namespace {
@@ -59,3 +62,5 @@ TEST_CASE("a grid query is a scan of every agent, in ascending index") {
     grid.query(x[0] + 30, y[0], 30, got);
     CHECK(got == scan(x, y, on, x[0] + 30, y[0], 30));
 }
+
+}  // namespace grid_test

@@ -13,6 +13,9 @@
 #include "runtime/sim/world.h"
 #include "tests/unit/io/compile_text.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace ground_truth_test {
+
 using namespace sdv;
 
 namespace {
@@ -91,3 +94,5 @@ scenario s {
     }
     CHECK(r.windows.size() == 4);
 }
+
+}  // namespace ground_truth_test

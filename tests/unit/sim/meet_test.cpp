@@ -11,6 +11,9 @@
 #include "runtime/sim/world.h"
 #include "tests/unit/io/compile_text.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace meet_test {
+
 using namespace sdv;
 
 namespace {
@@ -120,3 +123,5 @@ tree timed() {
     CHECK(near > 1.5 * far);  // half as far to go for the car: about twice the speed
     CHECK(away == 0);
 }
+
+}  // namespace meet_test

@@ -16,6 +16,9 @@
 #include "runtime/sim/world.h"
 #include "tests/unit/io/compile_text.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace pedestrian_test {
+
 using namespace sdv;
 
 namespace {
@@ -289,3 +292,5 @@ TEST_CASE("pedestrians standing close together stay at rest, and one walking thr
         }
     }
 }
+
+}  // namespace pedestrian_test

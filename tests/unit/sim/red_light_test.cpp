@@ -17,6 +17,9 @@
 #include "runtime/sim/world.h"
 #include "tests/unit/io/compile_text.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace red_light_test {
+
 using namespace sdv;
 
 namespace {
@@ -183,3 +186,5 @@ scenario s {
         }
     }
 }
+
+}  // namespace red_light_test

@@ -13,6 +13,9 @@
 
 #include "runtime/sim/social_force.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace social_force_test {
+
 namespace sf = sdv::sim::social_force;
 using sdv::road::Vec2;
 
@@ -293,3 +296,5 @@ TEST_CASE("box contact: signed distance to the outline, normal pointing out") {
     CHECK(centre.distance == doctest::Approx(-1.0));
     CHECK(norm(centre.normal) == doctest::Approx(1.0));
 }
+
+}  // namespace social_force_test

@@ -15,6 +15,9 @@
 #include "runtime/sim/world.h"
 #include "tests/unit/io/compile_text.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace stop_lines_test {
+
 using namespace sdv;
 
 namespace {
@@ -96,3 +99,5 @@ TEST_CASE("a driver stops at each red stop line of its lane, not only the first"
         }
     }
 }
+
+}  // namespace stop_lines_test

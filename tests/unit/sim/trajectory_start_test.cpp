@@ -12,6 +12,9 @@
 #include "runtime/sim/world.h"
 #include "tests/unit/io/compile_text.h"
 
+// This file's tests and helpers, apart from the other files of its unity batch.
+namespace trajectory_start_test {
+
 using namespace sdv;
 
 namespace {
@@ -121,3 +124,5 @@ scenario s {
         CHECK(first_collision <= entry + 1.0 / 30 + 1e-9);
     }
 }
+
+}  // namespace trajectory_start_test
