@@ -42,8 +42,8 @@ for f in "$root"/runtime/sim/*.cpp "$root"/runtime/sim/*.h; do
         fail=1
     fi
 done
-# Every unit-test file keeps its code in a namespace named after it (`namespace road_grid_test {`
-# for road_grid_test.cpp): the files of a test executable are compiled in unity batches
+# Every unit-test file keeps its code in a namespace named after it (segment_grid_test.cpp in
+# `namespace segment_grid_test {`): the files of a test executable are compiled in unity batches
 # (cmake/SdvTargets.cmake), where two files' helpers of one name would collide.
 for f in "$root"/tests/unit/*/*_test.cpp; do
     stem=$(basename "$f" .cpp)
