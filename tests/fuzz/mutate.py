@@ -66,7 +66,6 @@ def check(job):
 # The mutants are drawn in one fixed order from one seeded generator and written to files of
 # their own, then run on every core; failures are reported in that order, so a run is the same
 # whatever the number of cores.
-failures = []
 with tempfile.TemporaryDirectory() as tmp:
     tmp = pathlib.Path(tmp)
     jobs = []
