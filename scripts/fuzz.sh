@@ -66,10 +66,12 @@ declare -A max_len=([sdv_frontend]=65536 [ir_reader]=262144 [btree]=65536 [gss_s
 # three: 64 KB of dense text cost up to 2.2 s there, two to four times its cost without
 # sanitizers, where they keep the 1 s limit.
 declare -A timeout_sanitized=([sdv_frontend]=3 [btree]=3 [gss_scenario]=3)
-# The executions of a CI run (--ci), seeds included: about 25 s each under ASan+UBSan on one
-# core of the CI machine, from the rates of a clean CI run (2026-12-02, two targets at a time:
-# sdv_frontend 67 exec/s, lanelet2 90, sweep_rows 117, gss_scenario 150, run_dir 153, run_diff
-# 157, btree 160, cosim_frame 166, recording 230, ir_reader 468, sweep_results 937).
+# The executions of a CI run (--ci), seeds included: 25 s each under ASan+UBSan at the rates of a
+# clean CI run with the counts before (2026-12-02, two targets at a time: sdv_frontend 67 exec/s,
+# lanelet2 90, sweep_rows 117, gss_scenario 150, run_dir 153, run_diff 157, btree 160,
+# cosim_frame 166, recording 230, ir_reader 468, sweep_results 937). The seeds are the slow
+# inputs, so these counts take longer: 9-55 s a target, 167 s for the stage over both cores
+# (sdv_frontend 55 s, btree 41, gss_scenario 37, lanelet2 35; was 231 s).
 declare -A ci_runs=([sdv_frontend]=1700 [ir_reader]=12000 [btree]=4000 [gss_scenario]=3800
                     [lanelet2]=2300 [cosim_frame]=3000 [sweep_results]=15000 [recording]=3000
                     [run_dir]=3800 [run_diff]=3000 [sweep_rows]=3000)
