@@ -288,19 +288,24 @@ if [ ! -x "$exe" ]; then
 fi
 
 # The seed corpus: gathered once (delete the directory to gather again). The inputs are
-# compiled, recorded and swept by the first `sdv` found (an uninstrumented one is faster).
+# compiled, recorded and swept by the first `sdv` found (an uninstrumented one is faster). Runs
+# started together (two campaigns, one a core) gather it once: the first holds the lock, the others
+# wait for it and find the corpus made.
 if [ -z "$corpus" ]; then
     corpus=$build/corpus
-    if [ ! -d "$corpus/$target" ]; then
-        sdv_dir=""
-        for d in build/ci build/release build/dev build/fuzz; do
-            if [ -x "$d/sdv" ]; then sdv_dir=$d; break; fi
-        done
-        if [ -z "$sdv_dir" ]; then
-            cmake --build "$build" --target sdv -j "$(nproc)" >>"$build/fuzz-build-$target.log" 2>&1 && sdv_dir=$build
+    (
+        flock 9
+        if [ ! -d "$corpus/$target" ]; then
+            sdv_dir=""
+            for d in build/ci build/release build/dev build/fuzz; do
+                if [ -x "$d/sdv" ]; then sdv_dir=$d; break; fi
+            done
+            if [ -z "$sdv_dir" ]; then
+                cmake --build "$build" --target sdv -j "$(nproc)" >>"$build/fuzz-build-$target.log" 2>&1 && sdv_dir=$build
+            fi
+            scripts/fuzz-corpus.sh "${sdv_dir:-$build}" "$corpus" >&2
         fi
-        scripts/fuzz-corpus.sh "${sdv_dir:-$build}" "$corpus" >&2
-    fi
+    ) 9>"$build/corpus.lock" || exit
 fi
 # The fuzzer runs in a scratch directory: every path it is given must be absolute.
 corpus=$(realpath -m "$corpus")
