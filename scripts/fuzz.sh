@@ -416,6 +416,8 @@ fuzz_once() {
 }
 
 # record_row: rewrites the row of this target and build in the table of runs of docs/reliability.md.
+# It and record_campaigns hold a lock on the file while they read and rewrite it in place: runs side
+# by side (a campaign a core) would otherwise read one another's half-written file.
 record_row() {
     local build_kind bound_text parts_text row
     build_kind=$([ "$preset" = fuzz ] && echo "ASan+UBSan" || echo "no sanitizers")
@@ -431,7 +433,8 @@ record_row() {
     [ "$per_input" = 1 ] || bound_text="$bound_text, ${per_input} s per input"
     [ "$stopped" = 0 ] || [ "$resume" = 1 ] || bound_text="$bound_text, stopped by a signal"
     row="| $target | $build_kind | $execs | $rate | $cov | $ft | $crashes | $bound_text | $(date -u +%Y-%m-%d) |"
-    python3 - "$root/docs/reliability.md" "$target" "$build_kind" "$row" <<'PY'
+    flock "$root/docs/reliability.md" \
+        python3 - "$root/docs/reliability.md" "$target" "$build_kind" "$row" <<'PY'
 import pathlib, sys
 doc, target, build, row = pathlib.Path(sys.argv[1]), sys.argv[2], sys.argv[3], sys.argv[4]
 begin, end = "<!-- fuzz-runs:begin -->", "<!-- fuzz-runs:end -->"
@@ -454,7 +457,7 @@ PY
 # record_campaigns: rewrites the table of campaigns under way in docs/reliability.md from the
 # committed states (tests/fuzz/campaigns).
 record_campaigns() {
-    python3 - "$root/docs/reliability.md" "$root/tests/fuzz/campaigns" <<'PY'
+    flock "$root/docs/reliability.md" python3 - "$root/docs/reliability.md" "$root/tests/fuzz/campaigns" <<'PY'
 import pathlib, shlex, sys
 doc, states = pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2])
 begin, end = "<!-- fuzz-campaigns:begin -->", "<!-- fuzz-campaigns:end -->"
