@@ -177,8 +177,9 @@ ENTRIES = {
     "E0906": ("invalid value (.btree)",
               "A value of the wrong form: a constant where a number is expected, a malformed "
               "MP(...)/LT(...) sampler, a tuple of the wrong length; or a number outside the range of "
-              "the catalog parameter it sets, either end of an MP spread included (the converted "
-              "text would not compile)."),
+              "the catalog parameter it sets, either end of a spread included (MP's ±b %, LT's "
+              "±0.75 m or ±1.75 m), a sample count over 100 or a normal sampling's σ not above 0 "
+              "(the converted text would not compile)."),
     "E0907": ("subtree cycle (.btree)", "A behavior tree refers to itself through its subtrees."),
     "E0908": ("override of an unknown node (.btree)",
               "A subtree reference overrides a maneuver node the subtree does not have."),

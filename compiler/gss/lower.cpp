@@ -138,13 +138,13 @@ public:
     // `p`: the catalog parameter the value sets, whose range it must be in.
     std::optional<std::string> quantity(const BtItem& it, const std::string& unit, const catalog::ParamDef* p) {
         auto n = number(it);
-        if (!n || !in_range(it, p, *n, 0, unit)) return std::nullopt;
+        if (!n || !in_range(it, p, *n, 0, 0, unit)) return std::nullopt;
         return with_unit(*n, unit);
     }
 
     std::optional<std::string> integer(const BtItem& it, const catalog::ParamDef* p) {
         auto n = number(it);
-        if (!n || !in_range(it, p, std::round(*n), 0, "")) return std::nullopt;
+        if (!n || !in_range(it, p, std::round(*n), 0, 0, "")) return std::nullopt;
         return num_text(std::round(*n));
     }
 
@@ -158,11 +158,13 @@ public:
         return std::nullopt;
     }
 
-    // MP(value, bound %, samples[, method[, sigma]]) or a plain number.
+    // MP(value, bound %, samples[, method[, sigma]]) or a plain number. Every number the text
+    // writes is one the checker takes: the value and both ends of its spread in `p`'s range, the
+    // count 1 to kMaxSamples, a normal method's σ above 0.
     std::optional<std::string> sampled(const BtItem& it, const std::string& unit, const catalog::ParamDef* p) {
         const BtValue& v = it.value;
         if (v.kind == BtValue::Kind::number) {
-            if (!in_range(it, p, v.number, 0, unit)) return std::nullopt;
+            if (!in_range(it, p, v.number, 0, 0, unit)) return std::nullopt;
             return with_unit(v.number, unit);
         }
         if (v.kind != BtValue::Kind::call || v.text != "MP" || v.items.empty() || v.items.size() > 5) {
@@ -170,49 +172,46 @@ public:
             return std::nullopt;
         }
         double a[5] = {0, 0, 1, 1, 1};
-        for (size_t i = 0; i < v.items.size(); ++i) {
-            if (v.items[i].key || v.items[i].value.kind != BtValue::Kind::number) {
-                bad(v.items[i], "a number");
-                return std::nullopt;
-            }
-            a[i] = v.items[i].value.number;
-        }
+        if (!numbers(v, a)) return std::nullopt;
         std::string s = with_unit(a[0], unit);
-        const int n = static_cast<int>(std::lround(a[2]));
-        const bool spread = a[1] > 0 && n > 1;
-        if (!in_range(it, p, a[0], spread ? a[1] : 0, unit)) return std::nullopt;
+        auto n = sample_count(it, 2, a[2]);
+        if (!n) return std::nullopt;
+        const bool spread = a[1] > 0 && *n > 1;
+        if (!in_range(it, p, a[0], spread ? a[1] : 0, 0, unit)) return std::nullopt;
         if (!spread) return s;
-        s += " ±" + num_text(a[1]) + "% samples " + std::to_string(n);
-        return s + method(static_cast<int>(std::lround(a[3])), a[4], unit, v.items.size() > 3 ? &v.items[3] : nullptr);
+        auto m = method(it, 3, a[3], 4, a[4], unit);
+        if (!m) return std::nullopt;
+        return s + " ±" + num_text(a[1]) + "% samples " + std::to_string(*n) + *m;
     }
 
     // LT(target, samples, method, sigma, limit_lane_width, limit_vehicle_size) or a number: the
     // lateral target as an offset from the lane centre. The reference spreads several samples
     // over the lane width less the vehicle's radius; sdv spreads them ±0.75 m about the target
-    // (that width on a 3.5 m lane), or ±1.75 m when the vehicle's size is not subtracted.
-    std::optional<std::string> lateral(const BtItem& it) {
+    // (that width on a 3.5 m lane), or ±1.75 m when the vehicle's size is not subtracted. The
+    // offset and both ends of the spread are in `p`'s range, as in sampled().
+    std::optional<std::string> lateral(const BtItem& it, const catalog::ParamDef* p) {
         const BtValue& v = it.value;
-        if (v.kind == BtValue::Kind::number) return with_unit(v.number, "m");
+        if (v.kind == BtValue::Kind::number) {
+            if (!in_range(it, p, v.number, 0, 0, "m")) return std::nullopt;
+            return with_unit(v.number, "m");
+        }
         if (v.kind != BtValue::Kind::call || v.text != "LT" || v.items.empty() || v.items.size() > 6) {
             bad(it, "a number or LT(target, samples, method, sigma, limit_lane, limit_size)");
             return std::nullopt;
         }
         double a[6] = {0, 1, 3, 1, 1, 1};
-        for (size_t i = 0; i < v.items.size(); ++i) {
-            if (v.items[i].key || v.items[i].value.kind != BtValue::Kind::number) {
-                bad(v.items[i], "a number");
-                return std::nullopt;
-            }
-            a[i] = v.items[i].value.number;
-        }
+        if (!numbers(v, a)) return std::nullopt;
         std::string s = with_unit(a[0], "m");
-        const int n = static_cast<int>(std::lround(a[1]));
-        if (n <= 1) return s;
-        // The reference's default sampling for LT is NORMAL. Without limit_vehicle_size the
-        // samples may reach the lane's edges: ±1.75 m.
-        const char* spread = a[5] != 0 ? " ±0.75 m samples " : " ±1.75 m samples ";
-        return s + spread + std::to_string(n) +
-               method(static_cast<int>(std::lround(a[2])), a[3], "m", v.items.size() > 2 ? &v.items[2] : nullptr);
+        auto n = sample_count(it, 1, a[1]);
+        if (!n) return std::nullopt;
+        // Without limit_vehicle_size the samples may reach the lane's edges: ±1.75 m.
+        const double half_width = a[5] != 0 ? 0.75 : 1.75;
+        if (!in_range(it, p, a[0], 0, *n > 1 ? half_width : 0, "m")) return std::nullopt;
+        if (*n <= 1) return s;
+        // The reference's default sampling for LT is NORMAL.
+        auto m = method(it, 2, a[2], 3, a[3], "m");
+        if (!m) return std::nullopt;
+        return s + " ±" + num_text(half_width) + " m samples " + std::to_string(*n) + *m;
     }
 
     // LEFT / RIGHT / 1 / -1 → left / right.
@@ -270,22 +269,25 @@ public:
         return std::nullopt;
     }
 
-    // Whether the checker will take `value` (±pct %) for `p` as the converted text writes them
-    // (num_text), both ends of the spread in the range too (a magnitude's lower end clipped at 0,
-    // SPEC §3.6); else E0906 at the value.
-    bool in_range(const BtItem& it, const catalog::ParamDef* p, double value, double pct, const std::string& unit) {
+    // Whether the checker will take `value` (±pct %, ±abs) for `p` as the converted text writes
+    // them (num_text), both ends of the spread in the range too (a magnitude's lower end clipped
+    // at 0, SPEC §3.6); else E0906 at the value.
+    bool in_range(const BtItem& it, const catalog::ParamDef* p, double value, double pct, double abs,
+                  const std::string& unit) {
         if (p == nullptr) return true;
         const auto written = [](double x) { return std::strtod(num_text(x).c_str(), nullptr); };
-        const double v = written(value), delta = std::fabs(v) * written(pct) / 100;
+        const double v = written(value), delta = std::fabs(v) * written(pct) / 100 + abs;
         double lo = v - delta;
         if (p->min >= 0 && lo < 0 && v >= 0) lo = 0;
         for (const double x : {v, lo, v + delta}) {
             if (p->accepts(x)) continue;
             const std::string u = unit.empty() ? "" : " " + unit;
+            const std::string spread =
+                abs > 0 ? catalog::format_number(abs) + u : catalog::format_number(written(pct)) + "%";
             const std::string what = x == v ? "value " + catalog::format_number(x) + u + " is"
-                                            : "value " + catalog::format_number(v) + u + " ±" + catalog::format_number(written(pct)) +
-                                                  "% reaches " + catalog::format_number(x) + u + ", which is";
-            diags_.error("E0906", it.value.range, what + " out of range" + (it.key ? " for '" + *it.key + "'" : std::string()) +
+                                            : "value " + catalog::format_number(v) + u + " ±" + spread + " reaches " +
+                                                  catalog::format_number(x) + u + ", which is";
+            diags_.error("E0906", it.value.range, what + " out of range" + of(it) +
                                                       " (sdv's " + p->name + ")")
                 .notes.push_back(
                     {{}, "allowed: " + p->allowed([&](double b) { return catalog::format_number(b) + u; })});
@@ -295,21 +297,63 @@ public:
     }
 
     void bad(const BtItem& it, const std::string& expected) {
-        diags_.error("E0906", it.value.range, "invalid value" + (it.key ? " for '" + *it.key + "'" : std::string()))
+        diags_.error("E0906", it.value.range, "invalid value" + of(it))
             .notes.push_back({{}, "expected " + expected});
     }
 
 private:
-    // The reference's SamplingMethod: 1 linear, 2 uniform, 3 normal (σ in the value's unit).
-    std::string method(int m, double sigma, const std::string& unit, const BtItem* at) {
-        switch (m) {
-            case 1: return "";
-            case 2: return " uniform";
-            case 3: return " normal(" + with_unit(sigma, unit) + ")";
-            default:
-                if (at != nullptr) bad(*at, "a sampling method: 1 (linear), 2 (uniform) or 3 (normal)");
-                return "";
+    // The numbers of a call's positional items into `a` (as many as it has); E0906 at the first
+    // that is named or not a number.
+    bool numbers(const BtValue& call, double* a) {
+        for (size_t i = 0; i < call.items.size(); ++i) {
+            if (call.items[i].key || call.items[i].value.kind != BtValue::Kind::number) {
+                bad(call.items[i], "a number");
+                return false;
+            }
+            a[i] = call.items[i].value.number;
         }
+        return true;
+    }
+
+    // " for 'vel'": the field a value is written for, in a message.
+    static std::string of(const BtItem& it) { return it.key ? " for '" + *it.key + "'" : std::string(); }
+
+    // Where item `i` of `call` is written; the call when it has no such item (its default).
+    static const diag::SourceRange& at(const BtValue& call, size_t i) {
+        return i < call.items.size() ? call.items[i].value.range : call.range;
+    }
+
+    // The sample count written at item `i` of the sampler `it` (`x`, the default when it has no
+    // such item), rounded as the reference's int(): at most kMaxSamples, else E0906 at it. A count
+    // below 2 is one value, as in the reference.
+    std::optional<int> sample_count(const BtItem& it, size_t i, double x) {
+        if (x < catalog::kMaxSamples + 0.5) return x < 1.5 ? 1 : static_cast<int>(std::lround(x));
+        diags_.error("E0906", at(it.value, i),
+                     "sample count " + catalog::format_number(x) + " is out of range" + of(it))
+            .notes.push_back({{}, "sdv samples a value at 1 to " + std::to_string(catalog::kMaxSamples) + " points"});
+        return std::nullopt;
+    }
+
+    // The reference's SamplingMethod at item `mi` of the sampler `it` (`m`; 1 linear, 2 uniform,
+    // 3 normal), its σ at item `si` (`sigma`, in the value's unit, above 0 as written): the words
+    // after the count, else E0906 at the item.
+    std::optional<std::string> method(const BtItem& it, size_t mi, double m, size_t si, double sigma,
+                                      const std::string& unit) {
+        const BtValue& call = it.value;
+        const double r = std::round(m);
+        if (r == 1) return "";
+        if (r == 2) return " uniform";
+        if (r != 3) {
+            bad(call.items[mi], "a sampling method: 1 (linear), 2 (uniform) or 3 (normal)");
+            return std::nullopt;
+        }
+        if (!(std::strtod(num_text(sigma).c_str(), nullptr) > 0)) {
+            diags_.error("E0906", at(call, si),
+                         "the standard deviation " + catalog::format_number(sigma) + (unit.empty() ? "" : " " + unit) +
+                             " of normal sampling" + of(it) + " must be above 0");
+            return std::nullopt;
+        }
+        return " normal(" + with_unit(sigma, unit) + ")";
     }
 
     diag::DiagnosticEngine& diags_;
@@ -520,7 +564,7 @@ std::optional<std::vector<Arg>> lower_config(const BtValue& call, const ClassMap
             case Conv::boolean: text = val.boolean(*it); break;
             case Conv::side: text = val.side(*it); break;
             case Conv::vehicle: text = val.vehicle_id(*it); break;
-            case Conv::lateral: text = val.lateral(*it); break;
+            case Conv::lateral: text = val.lateral(*it, p); break;
             case Conv::stop_target:
                 text = val.constant(*it, {{"GOAL_POINT", "goal"}, {"GOAL", "goal"}, {"STOP_LINE", "stop_line"},
                                           {"NOW", "now"}, {"S_POS", "position"}, {"POS", "position"}},
@@ -1057,6 +1101,19 @@ std::string BtreeLibrary::tree_name(const std::string& stem) {
 std::vector<ReferenceCondition> reference_conditions(BtAgent agent) {
     std::vector<ReferenceCondition> out;
     for (const std::string& name : condition_names(agent)) out.push_back({name, find_condition(name, agent)->reads});
+    return out;
+}
+
+std::vector<ReferenceManeuver> reference_maneuvers(BtAgent agent) {
+    std::vector<ReferenceManeuver> out;
+    for (const ClassMap& c : agent == BtAgent::pedestrian ? pedestrian_classes() : classes()) {
+        ReferenceManeuver m{c.mconfig, {}};
+        for (const FieldMap& f : c.fields) m.fields.emplace_back(f.ref);
+        for (const FieldMap& f : c.pedestrian ? pedestrian_common_fields() : common_fields()) {
+            if (std::find(m.fields.begin(), m.fields.end(), f.ref) == m.fields.end()) m.fields.emplace_back(f.ref);
+        }
+        out.push_back(std::move(m));
+    }
     return out;
 }
 

@@ -41,6 +41,15 @@ struct ReferenceCondition {
 // Those a tree of `agent` (vehicle or pedestrian) may use, in the order of the mapping.
 std::vector<ReferenceCondition> reference_conditions(BtAgent agent);
 
+// An MConfig class of the reference that the converter maps to a maneuver, with the fields it
+// knows (those it converts and those it ignores with W0901; every MConfig's own and the common ones).
+struct ReferenceManeuver {
+    std::string name;
+    std::vector<std::string> fields;
+};
+// Those a tree of `agent` (vehicle or pedestrian) may use, in the order of the mapping.
+std::vector<ReferenceManeuver> reference_maneuvers(BtAgent agent);
+
 class BtreeLibrary {
 public:
     // `search_path`: directories searched, in order, for NAME.btree and then, as the

@@ -36,7 +36,7 @@ using catalog::ParamDef;
 using catalog::ParamType;
 using diag::SourceRange;
 
-inline constexpr int kMaxSamples = 100;
+using catalog::kMaxSamples;
 inline constexpr int kMaxCandidates = 20000;
 inline constexpr int kMaxExpansionDepth = 64;
 inline constexpr int64_t kMaxRepeat = 10000;         // agents of one template

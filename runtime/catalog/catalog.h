@@ -55,6 +55,9 @@ inline constexpr double kMaxScenarioTime = 86400;  // s
 inline constexpr double kMaxWaypointSpeed = 100;   // m/s
 inline constexpr double kMinAltitude = -1000;      // m
 inline constexpr double kMaxAltitude = 10000;      // m
+// The points of one sampled value (`samples N`), as the checker accepts them and the GeoScenario
+// converter writes an MP(...) or LT(...) spread.
+inline constexpr int kMaxSamples = 100;
 
 // A default that may itself be a sampled range: value ±spread_pct % with `samples` points.
 struct DefaultValue {
