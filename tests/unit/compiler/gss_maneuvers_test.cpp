@@ -137,6 +137,16 @@ TEST_CASE("a .btree value at the limits of sdv's parameter converts, one past it
         std::string value;
         bool accepted;
     };
+    // Each case's value in the call `before` VALUE `after`.
+    const auto check = [&](const std::vector<Case>& cs, const std::string& before, const std::string& after) {
+        for (const auto& c : cs) {
+            const std::string call = before + c.value + after;
+            const Outcome o = convert_and_compile(dir, tree_with(BtAgent::vehicle, call));
+            INFO(call, "\n", o.messages);
+            CHECK(o.accepted == c.accepted);
+            if (o.accepted) CHECK(o.compiled);
+        }
+    };
     // lat_offset is -10 m to 10 m; sdv spreads LT's samples ±0.75 m (with limit_vehicle_size, the
     // default) or ±1.75 m; counts go to 100; σ must be above 0.
     const std::vector<Case> cases = {
@@ -146,25 +156,13 @@ TEST_CASE("a .btree value at the limits of sdv's parameter converts, one past it
         {"LT(0,101)", false},       {"LT(0,100.4)", true},        {"LT(0,3,3,0)", false},    {"LT(0,3,3,1e-9)", true},
         {"LT(0,3,2,0)", true},      {"LT(0,3,4)", false},
     };
-    for (const auto& c : cases) {
-        const std::string call = "MVelKeepConfig(vel=MP(14,10,3), lat_target=" + c.value + ")";
-        const Outcome o = convert_and_compile(dir, tree_with(BtAgent::vehicle, call));
-        INFO(call, "\n", o.messages);
-        CHECK(o.accepted == c.accepted);
-        if (o.accepted) CHECK(o.compiled);
-    }
+    check(cases, "MVelKeepConfig(vel=MP(14,10,3), lat_target=", ")");
     const std::vector<Case> speeds = {
         {"MP(14,10,100)", true},    {"MP(14,10,101)", false},     {"MP(14,10,3,3,0.001)", true},
         {"MP(14,10,3,3,0)", false}, {"MP(14,10,3,3,-1)", false},  {"MP(14,10,3,5)", false},
         {"MP(14,10,1,3,0)", true},  // one sample: no spread, no σ written
     };
-    for (const auto& c : speeds) {
-        const std::string call = "MVelKeepConfig(vel=" + c.value + ")";
-        const Outcome o = convert_and_compile(dir, tree_with(BtAgent::vehicle, call));
-        INFO(call, "\n", o.messages);
-        CHECK(o.accepted == c.accepted);
-        if (o.accepted) CHECK(o.compiled);
-    }
+    check(speeds, "MVelKeepConfig(vel=", ")");
     fs::remove_all(dir);
 }
 
