@@ -10,6 +10,7 @@
 #include <BtreeParser.h>
 #include <antlr4-runtime.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -85,9 +86,16 @@ private:
     }
 
     // Brackets nest values (tuples, calls) that the builder walks recursively: refuse input that
-    // nests deeper than the .sdv parser allows before it reaches the builder.
-    void track(const Token& t) {
+    // nests deeper than the .sdv parser allows before it reaches the builder. A '(' right after a
+    // name opens a call (CALL_OPEN, see grammar/Btree.g4), so the parser never has to look ahead
+    // to tell a call from a name followed by a tuple.
+    void track(Token& t) {
         const std::string text = t.getText();
+        const bool opens_call = text == "(" && after_name_;
+        after_name_ = t.getType() == BtreeParser::NAME;
+        if (opens_call) {
+            if (auto* w = dynamic_cast<antlr4::WritableToken*>(&t)) w->setType(BtreeParser::CALL_OPEN);
+        }
         if (text == "(" || text == "[") {
             if (++brackets_ > syntax::kMaxNesting) {
                 diags_.error("E0004", pos_.range(t.getStartIndex(), t.getStartIndex() + 1),
@@ -128,6 +136,7 @@ private:
             return;
         }
         // Collapse blank lines: only the last NL before real text counts.
+        after_name_ = false;  // a '(' on the next line opens no call
         auto next = lexer_.nextToken();
         while (next->getType() == BtreeParser::NL) {
             t = std::move(next);
@@ -195,6 +204,7 @@ private:
     bool first_ = true;
     bool last_was_nl_ = true;
     int brackets_ = 0;
+    bool after_name_ = false;  // the last token passed on was a NAME
 };
 
 class ErrorListener : public antlr4::BaseErrorListener {
@@ -246,9 +256,15 @@ private:
             else if (t == BtreeParser::NL) names.emplace_back("end of line");
             else if (t == BtreeParser::INDENT) names.emplace_back("an indented block");
             else if (t == BtreeParser::DEDENT) names.emplace_back("the end of the block");
+            else if (t == BtreeParser::CALL_OPEN) names.emplace_back("'('");
             else if (auto lit = vocab.getLiteralName(static_cast<size_t>(t)); !lit.empty()) names.push_back(lit);
         }
-        return diag::alternatives(names);
+        // CALL_OPEN and a tuple's '(' read the same: name each once, in the order found.
+        std::vector<std::string> unique;
+        for (auto& n : names) {
+            if (std::find(unique.begin(), unique.end(), n) == unique.end()) unique.push_back(std::move(n));
+        }
+        return diag::alternatives(unique);
     }
 
     const Positions& pos_;
@@ -383,7 +399,21 @@ private:
 
 }  // namespace
 
-std::optional<BtFile> parse_btree(diag::FileId file, const diag::SourceManager& sm, diag::DiagnosticEngine& diags) {
+namespace {
+
+void add_stats(const BtreeParser& parser, BtreeParseStats& stats) {
+    for (const auto& d : parser.getParseInfo().getDecisionInfo()) {
+        stats.decisions += d.invocations;
+        stats.lookahead += d.SLL_TotalLook + d.LL_TotalLook;
+        stats.max_lookahead = std::max({stats.max_lookahead, d.SLL_MaxLook, d.LL_MaxLook});
+        stats.full_context += d.LL_Fallback;
+    }
+}
+
+}  // namespace
+
+std::optional<BtFile> parse_btree(diag::FileId file, const diag::SourceManager& sm, diag::DiagnosticEngine& diags,
+                                  BtreeParseStats* stats) {
     const std::string_view text = sm.contents(file);
     if (size_t bad = syntax::find_invalid_utf8(text); bad != std::string_view::npos) {
         const auto at = static_cast<uint32_t>(bad);
@@ -415,6 +445,18 @@ std::optional<BtFile> parse_btree(diag::FileId file, const diag::SourceManager& 
         parser.removeErrorListeners();
         ErrorListener listener(pos, diags);
         parser.addErrorListener(&listener);
+        if (stats != nullptr) parser.setProfile(true);
+        // Counted however the parse ends (a syntax error cancels it by throwing).
+        struct Count {
+            BtreeParser& parser;
+            BtreeParseStats* stats;
+            ~Count() {
+                try {
+                    if (stats != nullptr) add_stats(parser, *stats);
+                } catch (...) {  // a count lost, never a second exception while unwinding
+                }
+            }
+        } count{parser, stats};
         auto* tree = parser.btreeFile();
         if (listener.count() > 0 || diags.error_count() > errors_before) return std::nullopt;
         Builder builder(pos, diags);

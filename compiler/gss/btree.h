@@ -56,8 +56,19 @@ struct BtFile {
     std::vector<BtTree> trees;
 };
 
+// What the parser's adaptive prediction did on one file: for tests that pin the grammar's cost
+// to the input's size (fuzz finding 34: calls nested a hundred deep took ANTLR seconds).
+struct BtreeParseStats {
+    long long decisions = 0;      // predictions made
+    long long lookahead = 0;      // tokens they examined, summed
+    long long max_lookahead = 0;  // most tokens one prediction examined
+    long long full_context = 0;   // predictions that fell back to full-context (LL) prediction
+};
+
 // Parses one .btree file. Returns nullopt when it has lexical, indentation or syntax errors
-// (reported in `diags` with E0001, E0003 or E0901). Never throws.
-std::optional<BtFile> parse_btree(diag::FileId file, const diag::SourceManager& sm, diag::DiagnosticEngine& diags);
+// (reported in `diags` with E0001, E0003 or E0901). Never throws. With `stats`, the parser is
+// profiled (slower) and its prediction counts are added there.
+std::optional<BtFile> parse_btree(diag::FileId file, const diag::SourceManager& sm, diag::DiagnosticEngine& diags,
+                                  BtreeParseStats* stats = nullptr);
 
 }  // namespace sdv::compiler::gss
