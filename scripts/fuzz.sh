@@ -461,7 +461,7 @@ record_campaigns() {
 import pathlib, shlex, sys
 doc, states = pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2])
 begin, end = "<!-- fuzz-campaigns:begin -->", "<!-- fuzz-campaigns:end -->"
-rows = ["| target | build | executions | of | parts | machines | hours | findings | executable built from | started | last part | command |",
+rows = ["| target | build | executions | of | parts | machines | hours | findings | executable built from | started | last part | to go on |",
         "|---|---|---:|---:|---:|---:|---:|---:|---|---|---|---|"]
 kinds = {"fuzz": "ASan+UBSan", "fuzz-nosan": "no sanitizers"}
 for f in sorted(states.glob("*/*"), key=lambda f: (f.name, f.parent.name)):
@@ -472,11 +472,20 @@ for f in sorted(states.glob("*/*"), key=lambda f: (f.name, f.parent.name)):
         if line.startswith("c_") and "=" in line:
             k, v = line.split("=", 1)
             s[k[2:]] = " ".join(shlex.split(v)) if v else ""
+    # The command that goes on: the one that started the campaign, less the options of that run
+    # alone (how many parts, how long) and of that machine's directories.
+    words, go_on = shlex.split(s.get("command", "")), []
+    while words:
+        w = words.pop(0)
+        if w in ("--parts", "--part-minutes", "--part-runs", "--build-dir", "--corpus"):
+            words = words[1:]
+        else:
+            go_on.append(w)
     rows.append("| {} | {} | {} | {} | {} | {} | {:.1f} | {} | {}{} | {} | {} | `{}` |".format(
         f.name, kinds[f.parent.name], s.get("execs", "?"), s.get("runs", "?"), s.get("parts", "?"),
         s.get("machines", "?"), int(s.get("seconds", "0")) / 3600, s.get("findings", "?"), s.get("commit", "?"),
         "" if s.get("clean") == "1" else " (uncommitted changes)", s.get("started", ""), s.get("last", ""),
-        s.get("command", "").replace("|", "\\|")))
+        shlex.join(go_on).replace("|", "\\|")))
 if len(rows) == 2:
     rows = ["None."]
 text = doc.read_text(encoding="utf-8")
