@@ -318,8 +318,21 @@ logs=$(mktemp -d)
 trap 'rm -rf "$logs"' EXIT
 # SIGTERM or SIGINT to the script stops the fuzzer (as one to the fuzzer's main process does) and
 # ends the run after the part under way is counted.
-fuzzer_pid="" stop_asked=0
-trap 'stop_asked=1; [ -z "$fuzzer_pid" ] || kill -TERM "$fuzzer_pid" 2>/dev/null || true' TERM INT
+# libFuzzer's handler of SIGTERM prints its stats, removes its fork directory and exits; it
+# allocates and calls opendir in the handler (not async-signal-safe: it can block on a lock the
+# signal interrupted), so a fuzzer still running stop_grace seconds after the signal
+# (SDV_FUZZ_STOP_GRACE, default 30) is killed: a stopped run never waits on its fuzzer without
+# bound. The watchdog holds none of this script's descriptors (a test's output pipe stays free).
+fuzzer_pid="" stop_asked=0 watchdog_pid="" stop_grace=${SDV_FUZZ_STOP_GRACE:-30}
+stop_fuzzer() {
+    [ -n "$fuzzer_pid" ] || return 0
+    kill -TERM "$fuzzer_pid" 2>/dev/null || true
+    if [ -z "$watchdog_pid" ]; then
+        (sleep "$stop_grace"; kill -KILL "$fuzzer_pid") </dev/null >/dev/null 2>&1 &
+        watchdog_pid=$!
+    fi
+}
+trap 'stop_asked=1; stop_fuzzer' TERM INT
 
 # An input over 1 s is a finding of a long run (docs/reliability.md); CI only fails on a hang
 # (60 s): its verdict must not depend on how busy the machine is.
@@ -352,7 +365,7 @@ fuzz_once() {
         exec "$exe" "$@" "${common[@]}" "$work" "$corpus/$target" >"$logs/main.log" 2>&1) &
     fuzzer_pid=$!
     # A signal that came before the fuzzer started stops it now.
-    [ "$stop_asked" = 0 ] || kill -TERM "$fuzzer_pid" 2>/dev/null || true
+    [ "$stop_asked" = 0 ] || stop_fuzzer
     while :; do
         local st=0
         wait "$fuzzer_pid" || st=$?
@@ -362,6 +375,11 @@ fuzz_once() {
         break
     done
     fuzzer_pid=""
+    if [ -n "$watchdog_pid" ]; then
+        kill "$watchdog_pid" 2>/dev/null || true
+        watchdog_pid=""
+        [ "$status" -ne 137 ] || echo "fuzz.sh: fuzz_$target did not stop within $stop_grace s of SIGTERM: killed" >&2
+    fi
     seconds=$((SECONDS - started))
     # A child of fork mode outlives its parent stopped by a signal (it ran on for minutes): stop
     # every process of this executable still running.
@@ -373,22 +391,27 @@ fuzz_once() {
     new_findings=$(find "$findings" -type f -newer "$logs/start")
 
     # The numbers of the run: libFuzzer's final stats (summed over jobs) and the coverage of its
-    # last status line; in fork mode its last "#N: cov: ... time: Ts" line.
+    # last status line; in fork mode its last "#N: cov: ... time: Ts" line; of a fuzzer killed
+    # before its final stats, the count of its last status line (a lower bound).
     read -r execs rate cov ft < <(awk '
         /stat::number_of_executed_units:/ { execs += $2 }
         /stat::average_exec_per_sec:/ { rate += $2 }
         /^#[0-9]+:?[[:space:]].*cov: [0-9]+ ft: [0-9]+/ {
             for (i = 1; i < NF; i++) { if ($i == "cov:") c = $(i + 1); if ($i == "ft:") f = $(i + 1); if ($i == "time:") t = $(i + 1) }
             if (c + 0 > cov) cov = c + 0; if (f + 0 > ft) ft = f + 0
-            if ($1 ~ /:$/) { n = substr($1, 2) + 0; if (n > fork_execs) fork_execs = n; sub(/s$/, "", t); fork_time = t + 0 } }
+            if ($1 ~ /:$/) { n = substr($1, 2) + 0; if (n > fork_execs) fork_execs = n; sub(/s$/, "", t); fork_time = t + 0 }
+            else { n = substr($1, 2) + 0; if (n > status_execs) status_execs = n } }
         END { if (execs == 0 && fork_execs > 0) { execs = fork_execs; rate = fork_time > 0 ? fork_execs / fork_time : 0 }
+              if (execs == 0) execs = status_execs
               printf "%d %d %d %d\n", execs, rate, cov, ft }' "$logs/all.log")
     grep -E "^(INFO: (seed|.*files found)|#[0-9]+[[:space:]]+(INITED|DONE)|stat::|==[0-9]+==ERROR|SUMMARY|ALARM|sdv fuzz:)" \
         "$logs/all.log" | head -40 >&2 || true
     # Exit status 72 without an artifact: stopped by SIGINT or SIGTERM, not a finding; so is
-    # 143 when this script passed a signal on before the fuzzer could handle it.
+    # 143 when this script passed a signal on before the fuzzer could handle it, and 137 when the
+    # fuzzer was killed after not stopping within stop_grace.
     stopped=0
-    if { [ "$status" -eq 72 ] || { [ "$status" -eq 143 ] && [ "$stop_asked" = 1 ]; }; } && [ "$crashes" -eq 0 ]; then
+    if { [ "$status" -eq 72 ] || { [ "$stop_asked" = 1 ] && { [ "$status" -eq 143 ] || [ "$status" -eq 137 ]; }; }; } &&
+        [ "$crashes" -eq 0 ]; then
         stopped=1 status=0
         echo "fuzz.sh: fuzz_$target stopped by a signal" >&2
     fi

@@ -65,6 +65,17 @@ for _ in $(seq 600); do
     sleep 0.5
 done
 kill -TERM "$script"
+# fuzz.sh kills a fuzzer that does not stop within 30 s of the signal; a script still running
+# after 120 s of checks is a hang: it is killed and the check fails (the test never waits unbounded).
+for _ in $(seq 240); do
+    kill -0 "$script" 2>/dev/null || break
+    sleep 0.5
+done
+if kill -0 "$script" 2>/dev/null; then
+    pkill -KILL -P "$script" 2>/dev/null
+    kill -KILL "$script" 2>/dev/null
+    echo "fuzz.sh did not end within 120 s of SIGTERM" >>"$tmp/4.log"
+fi
 wait "$script"
 code=$?
 check "a campaign stopped by SIGTERM exits without a finding" [ "$code" = 0 ]
@@ -97,6 +108,41 @@ check "a machine's copy without its state is not resumed" [ $? = 0 ]
 check "  saying so" grep -q "without a state in .*: starting a new campaign" "$tmp/8.log"
 check "  and the new campaign has one part of 1,000 on one machine" \
     [ "$(state execs)/$(state parts)/$(state machines)" = 1000/1/1 ]
+
+# A fuzzer that does not stop on SIGTERM (as libFuzzer whose handler blocks) is killed after the
+# grace (SDV_FUZZ_STOP_GRACE, here 1 s): fuzz.sh ends, counting its last status line. The stand-in
+# ignores SIGTERM and prints one status line.
+mkdir -p "$tmp/stubborn/fuzz"
+cat >"$tmp/stubborn/fuzz/fuzz_ir_reader" <<'SH'
+#!/usr/bin/env bash
+trap '' TERM
+echo "#77	INITED cov: 5 ft: 6 corp: 1/1b exec/s: 0 rss: 1Mb"
+touch "$(dirname "$0")/started"
+while :; do sleep 0.1; done
+SH
+chmod +x "$tmp/stubborn/fuzz/fuzz_ir_reader"
+(SDV_FUZZ_STOP_GRACE=1 exec bash "$root/scripts/fuzz.sh" ir_reader --no-sanitizers --build-dir "$tmp/stubborn" \
+    --corpus "$root/tests/fuzz/corpus" --no-build --no-record --runs 1000 >"$tmp/9.log" 2>&1) &
+script=$!
+for _ in $(seq 600); do  # until the stand-in runs (a guard against a hang: 600 checks of 0.5 s)
+    [ ! -e "$tmp/stubborn/fuzz/started" ] || break
+    sleep 0.5
+done
+kill -TERM "$script"
+for _ in $(seq 240); do
+    kill -0 "$script" 2>/dev/null || break
+    sleep 0.5
+done
+if kill -0 "$script" 2>/dev/null; then
+    pkill -KILL -P "$script" 2>/dev/null
+    kill -KILL "$script" 2>/dev/null
+    echo "fuzz.sh did not end within 120 s of SIGTERM" >>"$tmp/9.log"
+fi
+wait "$script"
+code=$?
+check "a fuzzer deaf to SIGTERM is killed after the grace" grep -q "did not stop within 1 s of SIGTERM: killed" "$tmp/9.log"
+check "  and the run ends stopped, without a finding" [ "$code" = 0 ]
+check "  counting its last status line" grep -q "77 executions" "$tmp/9.log"
 
 if [ "$fail" != 0 ]; then
     for f in "$tmp"/*.log; do echo "== $(basename "$f")"; tail -n 15 "$f"; done
