@@ -16,6 +16,22 @@ check() {  # check WHAT CONDITION...
     if "$@"; then echo "ok: $what"; else echo "FAIL: $what"; fail=1; fi
 }
 state() { grep "^c_$1=" "$tmp/state/$preset/ir_reader" | cut -d= -f2-; }
+# stop PID LOG: SIGTERM to a fuzz.sh started in the background, then its exit status. fuzz.sh kills
+# a fuzzer still running 30 s after the signal; a script still running after 120 s of checks is a
+# hang: it is killed, LOG says so and the checks after fail (the test never waits without bound).
+stop() {
+    kill -TERM "$1"
+    for _ in $(seq 240); do
+        kill -0 "$1" 2>/dev/null || break
+        sleep 0.5
+    done
+    if kill -0 "$1" 2>/dev/null; then
+        pkill -KILL -P "$1" 2>/dev/null
+        kill -KILL "$1" 2>/dev/null
+        echo "fuzz.sh did not end within 120 s of SIGTERM" >>"$2"
+    fi
+    wait "$1"
+}
 fuzz() {
     bash "$root/scripts/fuzz.sh" ir_reader "${nosan[@]}" --resume --state-dir "$tmp/state" \
         --build-dir "$build" --corpus "$root/tests/fuzz/corpus" --no-build --no-record "$@"
@@ -64,19 +80,7 @@ for _ in $(seq 600); do
     [ -z "$(ls -A "$tmp/state/machine/$preset/ir_reader/work" 2>/dev/null)" ] || break
     sleep 0.5
 done
-kill -TERM "$script"
-# fuzz.sh kills a fuzzer that does not stop within 30 s of the signal; a script still running
-# after 120 s of checks is a hang: it is killed and the check fails (the test never waits unbounded).
-for _ in $(seq 240); do
-    kill -0 "$script" 2>/dev/null || break
-    sleep 0.5
-done
-if kill -0 "$script" 2>/dev/null; then
-    pkill -KILL -P "$script" 2>/dev/null
-    kill -KILL "$script" 2>/dev/null
-    echo "fuzz.sh did not end within 120 s of SIGTERM" >>"$tmp/4.log"
-fi
-wait "$script"
+stop "$script" "$tmp/4.log"
 code=$?
 check "a campaign stopped by SIGTERM exits without a finding" [ "$code" = 0 ]
 check "  saying so" grep -q "stopped by a signal" "$tmp/4.log"
@@ -128,17 +132,7 @@ for _ in $(seq 600); do  # until the stand-in runs (a guard against a hang: 600 
     [ ! -e "$tmp/stubborn/fuzz/started" ] || break
     sleep 0.5
 done
-kill -TERM "$script"
-for _ in $(seq 240); do
-    kill -0 "$script" 2>/dev/null || break
-    sleep 0.5
-done
-if kill -0 "$script" 2>/dev/null; then
-    pkill -KILL -P "$script" 2>/dev/null
-    kill -KILL "$script" 2>/dev/null
-    echo "fuzz.sh did not end within 120 s of SIGTERM" >>"$tmp/9.log"
-fi
-wait "$script"
+stop "$script" "$tmp/9.log"
 code=$?
 check "a fuzzer deaf to SIGTERM is killed after the grace" grep -q "did not stop within 1 s of SIGTERM: killed" "$tmp/9.log"
 check "  and the run ends stopped, without a finding" [ "$code" = 0 ]
