@@ -2,7 +2,8 @@
 # A fuzz campaign in parts (scripts/fuzz.sh --resume, tests/fuzz/README.md), on the ir_reader
 # target of a built fuzz preset: parts add up, a machine that lost the campaign's copy finds its
 # executable again by its SHA-256 and goes on, the end is counted once, what cannot go on is
-# refused with the reason, and a machine's copy of an ended campaign is not resumed.
+# refused with the reason, a machine's copy of an ended campaign is not resumed, and a fuzzer
+# deaf to SIGTERM is killed after fuzz.sh's grace.
 #   campaign_test.sh SOURCE_DIR BUILD_DIR PRESET
 # The state lives in a scratch directory (--state-dir), so nothing of the checkout changes.
 set -uo pipefail
