@@ -399,8 +399,9 @@ fuzz_once() {
         /^#[0-9]+:?[[:space:]].*cov: [0-9]+ ft: [0-9]+/ {
             for (i = 1; i < NF; i++) { if ($i == "cov:") c = $(i + 1); if ($i == "ft:") f = $(i + 1); if ($i == "time:") t = $(i + 1) }
             if (c + 0 > cov) cov = c + 0; if (f + 0 > ft) ft = f + 0
-            if ($1 ~ /:$/) { n = substr($1, 2) + 0; if (n > fork_execs) fork_execs = n; sub(/s$/, "", t); fork_time = t + 0 }
-            else { n = substr($1, 2) + 0; if (n > status_execs) status_execs = n } }
+            n = substr($1, 2) + 0
+            if ($1 ~ /:$/) { if (n > fork_execs) fork_execs = n; sub(/s$/, "", t); fork_time = t + 0 }
+            else if (n > status_execs) status_execs = n }
         END { if (execs == 0 && fork_execs > 0) { execs = fork_execs; rate = fork_time > 0 ? fork_execs / fork_time : 0 }
               if (execs == 0) execs = status_execs
               printf "%d %d %d %d\n", execs, rate, cov, ft }' "$logs/all.log")
