@@ -23,7 +23,8 @@ ENTRIES = {
               "A string literal has no closing `\"` on its line. Close it; strings cannot span lines."),
     "E0003": ("syntax error",
               "The parser found a token it did not expect. The note lists what it expected at that "
-              "point. After 20 syntax errors in one file the parser stops."),
+              "point. After 20 syntax errors in one file the parser stops, with one more E0003 at the "
+              "place of the last: \"too many syntax errors (20); stopping here\"."),
     "E0004": ("nesting too deep",
               "Braces, brackets, parentheses and decorators nest more than 128 levels, or one "
               "expectation has more than 256 `and` / `or` (each nests the expression a level "

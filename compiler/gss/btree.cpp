@@ -216,7 +216,9 @@ public:
         if (offending != nullptr && last_ >= 0 && static_cast<long>(offending->getTokenIndex()) < last_ + 4) return;
         if (offending != nullptr) last_ = static_cast<long>(offending->getTokenIndex());
         ++count_;
-        diag::SourceRange range{};
+        // Without an offending token (none is known), the error is at the end of the text.
+        const size_t end = pos_.offs.empty() ? 0 : pos_.offs.size() - 1;
+        diag::SourceRange range = pos_.offs.empty() ? diag::SourceRange{{pos_.file, 0}, {pos_.file, 0}} : pos_.range(end, end);
         std::string found = "end of file";
         if (offending != nullptr) {
             range = pos_.range(offending);

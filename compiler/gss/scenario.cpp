@@ -86,7 +86,8 @@ public:
         pugi::xml_document doc;
         const auto parsed = doc.load_buffer(text_.data(), text_.size(), pugi::parse_default);
         if (!parsed) {
-            const auto at = static_cast<uint32_t>(std::max<ptrdiff_t>(0, parsed.offset));
+            // pugixml reports an input that ends too early one byte past its end.
+            const auto at = static_cast<uint32_t>(std::clamp<ptrdiff_t>(parsed.offset, 0, static_cast<ptrdiff_t>(text_.size())));
             diags_.error("E0910", {{file_, at}, {file_, at}}, std::string("not a valid XML file: ") + parsed.description());
             return std::nullopt;
         }

@@ -119,7 +119,9 @@ public:
         }
         if (offending != nullptr) last_ = static_cast<long>(offending->getTokenIndex());
         ++count_;
-        diag::SourceRange range{};
+        // Without an offending token (none is known), the error is at the end of the text.
+        const uint32_t end = offs_[offs_.size() - 1];
+        diag::SourceRange range{{file_, end}, {file_, end}};
         std::string found = "end of file";
         if (offending != nullptr) {
             const size_t start = std::min(offending->getStartIndex(), offs_.size() - 1);
@@ -138,6 +140,7 @@ public:
                 type == SdvParser::ID) {
                 std::vector<std::string> units;
                 for (const auto& u : catalog::all_units()) units.emplace_back(u.spelling);
+                last_range_ = range;
                 auto& d = diags_.error("E0203", range, "unknown unit '" + offending->getText() + "'");
                 if (auto m = diag::closest_match(offending->getText(), units)) {
                     d.notes.push_back({{}, "did you mean '" + *m + "'?"});
@@ -151,6 +154,7 @@ public:
         if (auto* parser = dynamic_cast<antlr4::Parser*>(recognizer)) {
             expected = describe_expected(*parser);
         }
+        last_range_ = range;
         auto& d = diags_.error("E0003", range, "syntax error: unexpected " + found);
         if (!expected.empty()) {
             d.notes.push_back({{}, "expected " + expected});
@@ -161,6 +165,8 @@ public:
     }
 
     int count() const { return count_; }
+    // Where the last syntax error reported is: where the parse stops after too many.
+    diag::SourceRange last_range() const { return last_range_; }
 
 private:
     static std::string describe_expected(antlr4::Parser& parser) {
@@ -203,6 +209,7 @@ private:
     diag::DiagnosticEngine& diags_;
     int count_ = 0;
     long last_ = -1;
+    diag::SourceRange last_range_{};
 };
 
 // Builds the owned AST from the parse trees of a file that had no syntax errors, one chunk of
@@ -1235,8 +1242,8 @@ std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& s
             try {
                 tree = parser.file();
             } catch (const CancelParse&) {
-                diags.error("E0003", {}, "too many syntax errors in " + std::string(sm.path(file)) +
-                                             "; stopping");
+                diags.error("E0003", listener.last_range(),
+                            "too many syntax errors (" + std::to_string(kMaxSyntaxErrors) + "); stopping here");
                 return nullptr;
             }
             if (listener.count() > 0 || parser.getNumberOfSyntaxErrors() > 0) return nullptr;

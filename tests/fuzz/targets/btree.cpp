@@ -29,6 +29,7 @@ int sdv_fuzz_btree(const uint8_t* data, size_t size) {
         fuzz::require_converted_text_compiles("btree", display, sm, diags);
         (void)compiler::syntax::format(sm.add_file(display, converted->text), sm, diags);
     }
+    fuzz::require_located_diagnostics("btree", sm, diags);
     (void)diag::render_all_text(diags, sm);
     (void)diag::render_all_json(diags, sm);
     return 0;

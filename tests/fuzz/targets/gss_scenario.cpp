@@ -118,6 +118,7 @@ int sdv_fuzz_gss_scenario(const uint8_t* data, size_t size) {
         if (result.program && !diags.has_errors()) check_no_injection(path, text, *result.program);
         (void)compiler::syntax::format(sm.add_file(display, converted->text), sm, diags);
     }
+    fuzz::require_located_diagnostics(kTarget, sm, diags);
     (void)diag::render_all_text(diags, sm);
     (void)diag::render_all_json(diags, sm);
     return 0;

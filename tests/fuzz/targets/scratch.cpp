@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <filesystem>
@@ -108,6 +109,36 @@ void require_converted_text_compiles(const char* target, const std::string& disp
         if (d.severity != diag::Severity::error || d.range.begin.file == 0 || sm.path(d.range.begin.file) != display) continue;
         fail(target, "the converter accepted the input, but its .sdv text does not compile: " + d.code + " " + d.message + ": " +
                          std::string(sm.line_text(d.range.begin.file, sm.line_col(d.range.begin).line)));
+    }
+}
+
+namespace {
+
+// Whether `r` lies within a file of `sm`.
+bool within(const diag::SourceManager& sm, const diag::SourceRange& r) {
+    if (r.begin.file == 0 || r.begin.file > sm.file_count() || r.end.file != r.begin.file) return false;
+    const size_t size = sm.contents(r.begin.file).size();
+    return r.begin.offset <= r.end.offset && r.end.offset <= size;
+}
+
+}  // namespace
+
+void require_located_diagnostics(const char* target, const diag::SourceManager& sm, const diag::DiagnosticEngine& diags) {
+    for (const auto& d : diags.sorted()) {
+        const std::string what = "diagnostic " + d.code + " (" + d.message + ")";
+        const bool code = d.code.size() == 5 && (d.code[0] == 'E' || d.code[0] == 'W') &&
+                          std::all_of(d.code.begin() + 1, d.code.end(), [](char c) { return c >= '0' && c <= '9'; });
+        if (!code) fail(target, what + " has no code of the form E0000 or W0000");
+        if (d.message.empty()) fail(target, what + " has no message");
+        const bool placeless = d.code == "E0007" || d.code == "W0001";
+        if (!placeless && !within(sm, d.range)) {
+            const auto& r = d.range;
+            fail(target, what + " has no place within its file (file " + std::to_string(r.begin.file) + " bytes " +
+                             std::to_string(r.begin.offset) + ".." + std::to_string(r.end.offset) + " of file " +
+                             std::to_string(r.end.file) + "; " + std::to_string(sm.file_count()) + " files)");
+        }
+        for (const auto& n : d.notes)
+            if (n.range.valid() && !within(sm, n.range)) fail(target, what + " has a note whose place is outside its file");
     }
 }
 

@@ -33,4 +33,10 @@ const std::vector<std::string>& btree_library();
 void require_converted_text_compiles(const char* target, const std::string& display, const diag::SourceManager& sm,
                                      const diag::DiagnosticEngine& diags);
 
+// What every diagnostic a user sees has (docs/errors.md): a code (E or W and four digits), a
+// message, and a place in a file of `sm` (a range within its text) unless it is one of the
+// notes about the limits (E0007, W0001), which belong to no place; notes with a place have one
+// within their file too.
+void require_located_diagnostics(const char* target, const diag::SourceManager& sm, const diag::DiagnosticEngine& diags);
+
 }  // namespace sdv::fuzz

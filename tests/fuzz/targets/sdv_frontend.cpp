@@ -25,6 +25,7 @@ constexpr const char* kTarget = "sdv_frontend";
 constexpr const char* kPath = "/nonexistent/sdv-fuzz/input.sdv";
 
 void render(const diag::DiagnosticEngine& diags, const diag::SourceManager& sm) {
+    fuzz::require_located_diagnostics(kTarget, sm, diags);
     (void)diag::render_all_text(diags, sm);
     (void)diag::render_all_json(diags, sm);
 }

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "compiler/gss/lower.h"
+#include "compiler/gss/scenario.h"
 #include "compiler/sema/compile.h"
 
 // This file's tests and helpers, apart from the other files of its unity batch.
