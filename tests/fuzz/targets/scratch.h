@@ -33,7 +33,7 @@ const std::vector<std::string>& btree_library();
 void require_converted_text_compiles(const char* target, const std::string& display, const diag::SourceManager& sm,
                                      const diag::DiagnosticEngine& diags);
 
-// What every diagnostic a user sees has (docs/errors.md): a code (E or W and four digits), a
+// What every diagnostic a user sees has (docs/diagnostics.md): a code (E or W and four digits), a
 // message, and a place in a file of `sm` (a range within its text) unless it is one of the
 // notes about the limits (E0007, W0001), which belong to no place; notes with a place have one
 // within their file too.
