@@ -401,19 +401,6 @@ private:
 
 }  // namespace
 
-namespace {
-
-void add_stats(const BtreeParser& parser, BtreeParseStats& stats) {
-    for (const auto& d : parser.getParseInfo().getDecisionInfo()) {
-        stats.decisions += d.invocations;
-        stats.lookahead += d.SLL_TotalLook + d.LL_TotalLook;
-        stats.max_lookahead = std::max({stats.max_lookahead, d.SLL_MaxLook, d.LL_MaxLook});
-        stats.full_context += d.LL_Fallback;
-    }
-}
-
-}  // namespace
-
 std::optional<BtFile> parse_btree(diag::FileId file, const diag::SourceManager& sm, diag::DiagnosticEngine& diags,
                                   BtreeParseStats* stats) {
     const std::string_view text = sm.contents(file);
@@ -454,7 +441,7 @@ std::optional<BtFile> parse_btree(diag::FileId file, const diag::SourceManager& 
             BtreeParseStats* stats;
             ~Count() {
                 try {
-                    if (stats != nullptr) add_stats(parser, *stats);
+                    if (stats != nullptr) syntax::add_parse_stats(parser.getParseInfo(), *stats);
                 } catch (...) {  // a count lost, never a second exception while unwinding
                 }
             }

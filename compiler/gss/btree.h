@@ -10,6 +10,7 @@
 
 #include "compiler/diag/diagnostic_engine.h"
 #include "compiler/diag/source_manager.h"
+#include "compiler/syntax/parser.h"
 
 namespace sdv::compiler::gss {
 
@@ -58,12 +59,7 @@ struct BtFile {
 
 // What the parser's adaptive prediction did on one file: for tests that pin the grammar's cost
 // to the input's size (fuzz finding 34: calls nested a hundred deep took ANTLR seconds).
-struct BtreeParseStats {
-    long long decisions = 0;      // predictions made
-    long long lookahead = 0;      // tokens they examined, summed
-    long long max_lookahead = 0;  // most tokens one prediction examined
-    long long full_context = 0;   // predictions that fell back to full-context (LL) prediction
-};
+using BtreeParseStats = syntax::ParseStats;
 
 // Parses one .btree file. Returns nullopt when it has lexical, indentation or syntax errors
 // (reported in `diags` with E0001, E0003 or E0901). Never throws. With `stats`, the parser is

@@ -102,9 +102,10 @@ void mark(antlr4::ParserRuleContext* ctx, Marks& marks, NodeKind& kind) {
         if (statement) Marks::add(marks.start, first);
         if (rule == SdvParser::RuleItem) Marks::add(marks.item, first);
     }
-    const bool arith = rule == SdvParser::RulePrimary;
+    // A waypoint's time and a phase's duration: a primary whose first factor is its own.
+    const bool arith = rule == SdvParser::RulePrimary || rule == SdvParser::RuleLeadPrimary;
     const bool repeat = rule == SdvParser::RuleRepeat;
-    const bool group = rule == SdvParser::RuleGroup;
+    const bool group = rule == SdvParser::RuleGroup || rule == SdvParser::RuleLeadFactor;
     for (auto* child : ctx->children) {
         const NodeKind::Node node = kind.of(child);
         if (node.rule != nullptr) {
@@ -131,7 +132,7 @@ void mark(antlr4::ParserRuleContext* ctx, Marks& marks, NodeKind& kind) {
         if (ctx->children.size() == 2) {
             if (auto* sign = kind.of(ctx->children[0]).leaf) Marks::add(marks.glue_right, sign->getSymbol()->getTokenIndex());
         }
-    } else if (group) {
+    } else if (rule == SdvParser::RuleGroup) {
         auto* g = static_cast<SdvParser::GroupContext*>(ctx);
         if (g->sign != nullptr) Marks::add(marks.glue_right, g->sign->getTokenIndex());
     }

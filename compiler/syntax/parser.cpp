@@ -197,7 +197,7 @@ private:
                 else if (sym == "STRING") sym = "a string";
                 else if (sym == "PLUSMINUS") sym = "'±'";
                 else continue;
-                names.push_back(sym);
+                if (std::find(names.begin(), names.end(), sym) == names.end()) names.push_back(sym);  // INT, FLOAT
             }
         }
         if (name_like) names.insert(names.begin(), "a name");
@@ -318,16 +318,19 @@ private:
         return v;
     }
 
-    ast::Quantity quantity(SdvParser::QuantityContext* c) {
+    ast::Quantity quantity(SdvParser::QuantityContext* c) { return quantity(c->number(), c->sign, c->unit()); }
+
+    // A number, its sign ('-', '+' or none) and its unit (or none).
+    ast::Quantity quantity(SdvParser::NumberContext* n, Token* sign, SdvParser::UnitContext* u) {
         ast::Quantity q;
-        q.value = number(c->number());
-        q.text = spelling(c->number());
-        q.is_integer = c->number()->INT() != nullptr;
-        if (c->sign != nullptr && c->sign->getText() == "-") {
+        q.value = number(n);
+        q.text = spelling(n);
+        q.is_integer = n->INT() != nullptr;
+        if (sign != nullptr && sign->getText() == "-") {
             q.value = -q.value;
             q.text = "-" + q.text;
         }
-        if (auto* u = c->unit()) {
+        if (u != nullptr) {
             q.unit = canonical_unit(u);
             q.unit_range = range(u);
         }
@@ -372,10 +375,37 @@ private:
         return p;
     }
 
+    // A primary whose first factor is a number or a parenthesis (a waypoint's time, a phase's
+    // duration).
+    ast::Primary primary(SdvParser::LeadPrimaryContext* c) {
+        ast::Primary p;
+        p.range = range(c);
+        ast::Arith e = arith(c);
+        if (e.kind == ast::Arith::Kind::quantity) {
+            p.kind = ast::Primary::Kind::quantity;
+            p.quantity = std::move(e.quantity);
+        } else {
+            p.kind = ast::Primary::Kind::expr;
+            p.expr = std::make_shared<const ast::Arith>(std::move(e));
+        }
+        return p;
+    }
+
+    // A single value of one primary.
+    static ast::Value single(ast::Primary p) {
+        ast::Value v;
+        v.kind = ast::Value::Kind::single;
+        v.range = p.range;
+        v.lo = std::move(p);
+        return v;
+    }
+
     // Factors and operators as written, precedence applied: a sum of products. A sum of one
     // term is the term, a product of one factor the factor (a lone number stays a quantity).
-    // Recursion is bounded by the parentheses, which the nesting limit caps.
-    ast::Arith arith(SdvParser::PrimaryContext* c) {
+    // Recursion is bounded by the parentheses, which the nesting limit caps. `c` is a primary
+    // or a waypoint's time (the same factors and operators after a first factor of its own).
+    template <class Context>
+    ast::Arith arith(Context* c) {
         // The operands in order: factors, and divisors after `/`.
         std::vector<antlr4::ParserRuleContext*> operands;
         for (auto* child : c->children) {
@@ -437,25 +467,37 @@ private:
         } else if (auto* d = dynamic_cast<SdvParser::DivisorContext*>(c)) {
             q = d->quantity();
             g = d->group();
+        } else if (auto* lq = dynamic_cast<SdvParser::LeadQuantityContext*>(c)) {
+            a.kind = ast::Arith::Kind::quantity;
+            a.quantity = quantity(lq->number(), nullptr, lq->unit());
+            return a;
+        } else if (auto* lg = dynamic_cast<SdvParser::LeadGroupContext*>(c)) {
+            return group(lg->primary(), nullptr, lg->unit(), a);
         }
         if (q != nullptr) {
             a.kind = ast::Arith::Kind::quantity;
             a.quantity = quantity(q);
         } else if (g != nullptr) {
-            a.kind = ast::Arith::Kind::group;
-            a.negate = g->sign != nullptr;
-            if (g->primary()->STRING() != nullptr) {
-                error("E0003", range(g->primary()), "syntax error: a string cannot be part of arithmetic");
-                a.operands.push_back({});
-            } else {
-                a.operands.push_back(arith(g->primary()));
-            }
-            if (auto* u = g->unit()) {
-                a.unit = canonical_unit(u);
-                a.unit_range = range(u);
-            }
+            return group(g->primary(), g->sign, g->unit(), a);
         }
         return a;
+    }
+
+    // A parenthesis: its primary, its sign ('-' or none) and the unit after it, into `a`.
+    ast::Arith group(SdvParser::PrimaryContext* inner, Token* sign, SdvParser::UnitContext* u, ast::Arith& a) {
+        a.kind = ast::Arith::Kind::group;
+        a.negate = sign != nullptr;
+        if (inner->STRING() != nullptr) {
+            error("E0003", range(inner), "syntax error: a string cannot be part of arithmetic");
+            a.operands.push_back({});
+        } else {
+            a.operands.push_back(arith(inner));
+        }
+        if (u != nullptr) {
+            a.unit = canonical_unit(u);
+            a.unit_range = range(u);
+        }
+        return std::move(a);
     }
 
     ast::Samples samples(SdvParser::SamplesContext* c) {
@@ -468,9 +510,9 @@ private:
         if (auto* m = c->method()) {
             s.method = ident(m->ident());
             if (auto* v = m->value()) {
-                auto* sv = dynamic_cast<SdvParser::SingleValueContext*>(v);
-                if (sv != nullptr && !sv->spread() && !sv->samples()) {
-                    s.method_arg = primary(sv->primary());
+                auto* sv = dynamic_cast<SdvParser::ScalarValueContext*>(v);
+                if (sv != nullptr && !sv->spread() && sv->DOTDOT() == nullptr && !sv->samples()) {
+                    s.method_arg = primary(sv->primary(0));
                 } else {
                     error("E0003", range(v), "syntax error: expected a single quantity "
                                              "as the distribution's parameter");
@@ -484,16 +526,13 @@ private:
     ast::Value value(SdvParser::ValueContext* c) {
         ast::Value v;
         v.range = range(c);
-        if (auto* s = dynamic_cast<SdvParser::SingleValueContext*>(c)) {
-            v.kind = ast::Value::Kind::single;
-            v.lo = primary(s->primary());
+        if (auto* s = dynamic_cast<SdvParser::ScalarValueContext*>(c)) {
+            const bool interval = s->DOTDOT() != nullptr;
+            v.kind = interval ? ast::Value::Kind::interval : ast::Value::Kind::single;
+            v.lo = primary(s->primary(0));
+            if (interval) v.hi = primary(s->primary(1));
             if (auto* sp = s->spread()) v.spread = primary(sp->primary());
             if (auto* sm = s->samples()) v.samples = samples(sm);
-        } else if (auto* iv = dynamic_cast<SdvParser::IntervalValueContext*>(c)) {
-            v.kind = ast::Value::Kind::interval;
-            v.lo = primary(iv->primary(0));
-            v.hi = primary(iv->primary(1));
-            if (auto* sm = iv->samples()) v.samples = samples(sm);
         } else if (auto* lv = dynamic_cast<SdvParser::ListValueContext*>(c)) {
             v.kind = ast::Value::Kind::list;
             for (auto* item : lv->value()) v.items.push_back(value(item));
@@ -756,9 +795,9 @@ private:
                 std::vector<ast::Waypoint> wps;
                 for (auto* w : s8->waypoint()) {
                     ast::Waypoint wp;
-                    wp.time = value(w->value(0));
+                    wp.time = single(primary(w->time));
                     wp.position = position(w->position());
-                    if (w->SPEED()) wp.speed = value(w->value(1));
+                    if (w->SPEED()) wp.speed = value(w->value());
                     wp.range = range(w);
                     wps.push_back(std::move(wp));
                 }
@@ -880,7 +919,15 @@ private:
                     } else if (auto* ph = dynamic_cast<SdvParser::LightPhaseContext*>(ls)) {
                         ast::Setting set;
                         set.key = ident(ph->ident());
-                        set.values.push_back(value(ph->value()));
+                        ast::Value duration = single(primary(ph->leadPrimary()));
+                        duration.range = {range(ph->leadPrimary()).begin, range(ph).end};
+                        if (ph->DOTDOT()) {
+                            duration.kind = ast::Value::Kind::interval;
+                            duration.hi = primary(ph->primary());
+                        }
+                        if (auto* sp = ph->spread()) duration.spread = primary(sp->primary());
+                        if (auto* sm = ph->samples()) duration.samples = samples(sm);
+                        set.values.push_back(std::move(duration));
                         set.range = range(ph);
                         l.phases.push_back(std::move(set));
                     }
@@ -1162,8 +1209,17 @@ bool precheck(diag::FileId file, const diag::SourceManager& sm, const std::vecto
     return prepare(file, text, offs, std::move(lexemes), prepared, diags);
 }
 
+void add_parse_stats(antlr4::atn::ParseInfo info, ParseStats& stats) {
+    for (const auto& d : info.getDecisionInfo()) {
+        stats.decisions += d.invocations;
+        stats.lookahead += d.SLL_TotalLook + d.LL_TotalLook;
+        stats.max_lookahead = std::max({stats.max_lookahead, d.SLL_MaxLook, d.LL_MaxLook});
+        stats.full_context += d.LL_Fallback;
+    }
+}
+
 std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& sm,
-                                 diag::DiagnosticEngine& diags) {
+                                 diag::DiagnosticEngine& diags, ParseStats* stats) {
     const std::string_view text = sm.contents(file);
     if (!check_utf8(file, text, diags)) return nullptr;
     const CodePoints offs(text);
@@ -1205,6 +1261,19 @@ std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& s
         Builder builder(file, offs, pending);
         SdvParser parser(nullptr);
         parser.removeErrorListeners();
+        if (stats != nullptr) parser.setProfile(true);
+        // Counted however the parse ends (a syntax error cancels it by throwing).
+        struct Count {
+            SdvParser& parser;
+            ParseStats* stats;
+            ~Count() {
+                if (stats == nullptr) return;
+                try {
+                    add_parse_stats(parser.getParseInfo(), *stats);
+                } catch (...) {  // a count lost, never a second exception while unwinding
+                }
+            }
+        } count{parser, stats};
         auto* interpreter = parser.getInterpreter<antlr4::atn::ParserATNSimulator>();
         // Two stages, as ANTLR recommends: SLL prediction bailing out at the first error (fast,
         // and exact for every input it accepts), chunk by chunk, each chunk's tree built and

@@ -12,6 +12,9 @@
 
 namespace antlr4 {
 class Token;
+namespace atn {
+class ParseInfo;
+}
 }
 
 namespace sdv::compiler::syntax {
@@ -24,10 +27,22 @@ inline constexpr int kMaxOperators = 256;
 // Syntax errors reported per file before the parser gives up on it.
 inline constexpr int kMaxSyntaxErrors = 20;
 
+// What ANTLR's adaptive prediction did in one parse, counted by its profiler: for tests that pin
+// a grammar's cost to the input's size (fuzz findings 34 and 37).
+struct ParseStats {
+    long long decisions = 0;      // predictions made
+    long long lookahead = 0;      // tokens they examined, summed
+    long long max_lookahead = 0;  // most tokens one prediction examined
+    long long full_context = 0;   // predictions that fell back to full-context (LL) prediction
+};
+
 // Parses one file. Returns the AST, or nullptr when the file has lexical or syntax errors
-// (they are in `diags`). Never throws.
+// (they are in `diags`). Never throws. With `stats`, the parser is profiled (slower) and its
+// predictions are counted into it, however the parse ends.
 std::unique_ptr<ast::File> parse(diag::FileId file, const diag::SourceManager& sm,
-                                 diag::DiagnosticEngine& diags);
+                                 diag::DiagnosticEngine& diags, ParseStats* stats = nullptr);
+// Adds the predictions of a profiled ANTLR parser to `stats` (the .sdv and .btree parsers).
+void add_parse_stats(antlr4::atn::ParseInfo info, ParseStats& stats);
 
 // The encoding check parse() makes first: E0001 at the first byte that is not UTF-8. True when
 // the text is valid UTF-8, which the lexer needs.
