@@ -403,7 +403,8 @@ private:
     // Factors and operators as written, precedence applied: a sum of products. A sum of one
     // term is the term, a product of one factor the factor (a lone number stays a quantity).
     // Recursion is bounded by the parentheses, which the nesting limit caps. `c` is a primary
-    // or a waypoint's time (the same factors and operators after a first factor of its own).
+    // or a lead primary (a waypoint's time, a phase's duration: the same factors and operators
+    // after a first factor of its own).
     template <class Context>
     ast::Arith arith(Context* c) {
         // The operands in order: factors, and divisors after `/`.
