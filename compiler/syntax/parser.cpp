@@ -361,7 +361,19 @@ private:
             p.string = unescape(c->STRING()->getText());
             return p;
         }
-        ast::Arith e = arith(c);
+        return of_arith(arith(c), p);
+    }
+
+    // A primary whose first factor is a number or a parenthesis (a waypoint's time, a phase's
+    // duration; never a lone name).
+    ast::Primary primary(SdvParser::LeadPrimaryContext* c) {
+        ast::Primary p;
+        p.range = range(c);
+        return of_arith(arith(c), p);
+    }
+
+    // The arithmetic of a primary into `p`: a lone quantity or name as such, else the expression.
+    static ast::Primary of_arith(ast::Arith e, ast::Primary& p) {
         if (e.kind == ast::Arith::Kind::quantity) {
             p.kind = ast::Primary::Kind::quantity;
             p.quantity = std::move(e.quantity);
@@ -372,23 +384,7 @@ private:
             p.kind = ast::Primary::Kind::expr;
             p.expr = std::make_shared<const ast::Arith>(std::move(e));
         }
-        return p;
-    }
-
-    // A primary whose first factor is a number or a parenthesis (a waypoint's time, a phase's
-    // duration).
-    ast::Primary primary(SdvParser::LeadPrimaryContext* c) {
-        ast::Primary p;
-        p.range = range(c);
-        ast::Arith e = arith(c);
-        if (e.kind == ast::Arith::Kind::quantity) {
-            p.kind = ast::Primary::Kind::quantity;
-            p.quantity = std::move(e.quantity);
-        } else {
-            p.kind = ast::Primary::Kind::expr;
-            p.expr = std::make_shared<const ast::Arith>(std::move(e));
-        }
-        return p;
+        return std::move(p);
     }
 
     // A single value of one primary.
