@@ -361,7 +361,7 @@ private:
             p.string = unescape(c->STRING()->getText());
             return p;
         }
-        return of_arith(arith(c), p);
+        return of_arith(arith(c), std::move(p));
     }
 
     // A primary whose first factor is a number or a parenthesis (a waypoint's time, a phase's
@@ -369,11 +369,11 @@ private:
     ast::Primary primary(SdvParser::LeadPrimaryContext* c) {
         ast::Primary p;
         p.range = range(c);
-        return of_arith(arith(c), p);
+        return of_arith(arith(c), std::move(p));
     }
 
-    // The arithmetic of a primary into `p`: a lone quantity or name as such, else the expression.
-    static ast::Primary of_arith(ast::Arith e, ast::Primary& p) {
+    // `p` with the arithmetic of its primary: a lone quantity or name as such, else the expression.
+    static ast::Primary of_arith(ast::Arith e, ast::Primary p) {
         if (e.kind == ast::Arith::Kind::quantity) {
             p.kind = ast::Primary::Kind::quantity;
             p.quantity = std::move(e.quantity);
@@ -384,7 +384,7 @@ private:
             p.kind = ast::Primary::Kind::expr;
             p.expr = std::make_shared<const ast::Arith>(std::move(e));
         }
-        return std::move(p);
+        return p;
     }
 
     // A single value of one primary.
