@@ -2,20 +2,49 @@
 #include "compiler/diag/source_manager.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstring>
 
 namespace sdv::diag {
+
+namespace {
+
+// The code points that start in text[0, n): every byte but the continuation bytes (10xxxxxx).
+// Eight bytes a step, without a comparison per byte: the front ends add every text they read,
+// and under the fuzzers' coverage (tests/fuzz) each comparison of a byte loop is a call into
+// libFuzzer, which made this scan a third of the GeoScenario target's own time.
+uint32_t count_code_points(const char* text, size_t n) {
+    constexpr uint64_t kHigh = 0x8080808080808080ULL;
+    size_t continuation = 0, i = 0;
+    for (; i + 8 <= n; i += 8) {
+        uint64_t w;
+        std::memcpy(&w, text + i, 8);
+        // Bit 7 of each byte set, and bit 6 (shifted to bit 7 of the same byte) clear.
+        continuation += static_cast<size_t>(std::popcount(w & ~(w << 1) & kHigh));
+    }
+    for (; i < n; ++i) continuation += (static_cast<unsigned char>(text[i]) & 0xC0) == 0x80 ? 1 : 0;
+    return static_cast<uint32_t>(n - continuation);
+}
+
+}  // namespace
 
 FileId SourceManager::add_file(std::string path, std::string contents) {
     File f;
     f.path = std::move(path);
     f.contents = std::move(contents);
+    const char* const text = f.contents.data();
+    const size_t size = f.contents.size();
     f.line_starts.push_back(0);
+    // The line breaks by memchr: the C library's scan, vectorised and not instrumented.
+    for (const char* p = text; (p = static_cast<const char*>(std::memchr(p, '\n', size - (p - text)))) != nullptr;) {
+        ++p;
+        f.line_starts.push_back(static_cast<uint32_t>(p - text));
+    }
+    f.code_points.reserve(size / kCheckpoint + 2);
     uint32_t cps = 0;
-    for (size_t i = 0; i < f.contents.size(); ++i) {
-        if (i % kCheckpoint == 0) f.code_points.push_back(cps);
-        if (f.contents[i] == '\n') f.line_starts.push_back(static_cast<uint32_t>(i + 1));
-        // Continuation bytes (10xxxxxx) do not start a code point.
-        if ((static_cast<unsigned char>(f.contents[i]) & 0xC0) != 0x80) ++cps;
+    for (size_t block = 0; block < size; block += kCheckpoint) {
+        f.code_points.push_back(cps);
+        cps += count_code_points(text + block, std::min<size_t>(kCheckpoint, size - block));
     }
     f.code_points.push_back(cps);  // at the end (a checkpoint past the last full block)
     files_.push_back(std::move(f));
@@ -51,11 +80,8 @@ SourceManager::LineCol SourceManager::line_col(SourceLocation loc) const {
 uint32_t SourceManager::code_points_before(const File& f, uint32_t offset) {
     const uint32_t block = offset / kCheckpoint;
     if (block >= f.code_points.size()) return f.code_points.back();
-    uint32_t n = f.code_points[block];
-    for (uint32_t i = block * kCheckpoint; i < offset; ++i) {
-        if ((static_cast<unsigned char>(f.contents[i]) & 0xC0) != 0x80) ++n;
-    }
-    return n;
+    const uint32_t start = block * kCheckpoint;
+    return f.code_points[block] + count_code_points(f.contents.data() + start, offset - start);
 }
 
 std::string_view SourceManager::line_text(FileId file, uint32_t line) const {
