@@ -69,7 +69,8 @@ python3 "$root/tests/fuzz/gen_deep.py" "$out"
 
 sdv=$build/sdv
 if [ ! -x "$sdv" ]; then
-    echo "fuzz-corpus: no $sdv: no compiled IR, co-simulation records or sweep seeds" >&2
+    echo "fuzz-corpus: no $sdv: no compiled IR, co-simulation records, sweeps or traced runs (seeds of" \
+         "ir_reader, cosim_frame, sweep_results, sweep_rows, run_dir and run_diff)" >&2
 else
     # The sanitizers of an instrumented sdv must not stop it on a leak at exit.
     export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
