@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <random>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "compiler/diag/source_manager.h"
@@ -56,16 +57,16 @@ std::string reference_line_text(const std::string& text, uint32_t line) {
 }
 
 std::string random_text(std::mt19937& rng, size_t size) {
-    static const char* const pieces[] = {"a", " ", "\t", "\xC3\xA9", "\xE2\x82\xAC", "\xF0\x9F\x9A\x97", "\x80",
-                                         "\xBF", "\xC3", "\xFF", "\xF8", "" /* NUL */, "\r",
-                                         "\n", "\r\n"};
-    std::uniform_int_distribution<int> piece(0, 14), lines(0, 3);
-    const bool one_line = lines(rng) == 0;  // one long line now and then
+    static const std::string_view pieces[] = {"a", " ", "\t", "\xC3\xA9", "\xE2\x82\xAC", "\xF0\x9F\x9A\x97",
+                                              "\x80", "\xBF", "\xC3", "\xFF", "\xF8", std::string_view("\0", 1),
+                                              "\r", "\n", "\r\n"};
+    std::uniform_int_distribution<int> piece(0, 14), one_in_four(0, 3);
+    const bool one_line = one_in_four(rng) == 0;  // one long line now and then: no CR or LF
     std::string text;
     while (text.size() < size) {
         const int p = piece(rng);
         if (one_line && p >= 12) continue;
-        text += p == 11 ? std::string(1, '\0') : std::string(pieces[p]);
+        text += pieces[p];
     }
     text.resize(size);  // may cut a code point: a dangling lead byte at the end
     return text;
@@ -78,16 +79,14 @@ TEST_CASE("every offset's line and column and every line's text are those of a s
     // Lengths around the word and block boundaries, and random ones up to a few blocks.
     std::vector<size_t> sizes = {0, 1, 7, 8, 9, 15, 16, 17, 255, 256, 257, 511, 512, 513, 1031};
     for (int k = 0; k < 60; ++k) sizes.push_back(std::uniform_int_distribution<size_t>(0, 1400)(rng));
-    int files = 0;
     for (const size_t size : sizes) {
-        for (int round = 0; round < 4; ++round, ++files) {
+        for (int round = 0; round < 4; ++round) {
             const std::string text = random_text(rng, size);
             SourceManager sm;
             const FileId id = sm.add_file("f.sdv", text);
             REQUIRE(sm.contents(id) == text);
             INFO("file of " << size << " bytes, round " << round);
             const auto positions = reference_line_cols(text);
-            uint32_t lines = 1;
             for (uint32_t offset = 0; offset <= text.size() + 2; ++offset) {
                 // Past the end: the end.
                 const auto expected = positions[std::min<size_t>(offset, text.size())];
@@ -95,15 +94,13 @@ TEST_CASE("every offset's line and column and every line's text are those of a s
                 INFO("offset " << offset);
                 REQUIRE(got.line == expected.line);
                 REQUIRE(got.col == expected.col);
-                lines = std::max(lines, got.line);
             }
-            for (uint32_t line = 0; line <= lines + 1; ++line) {
+            for (uint32_t line = 0; line <= positions.back().line + 1; ++line) {
                 INFO("line " << line);
                 REQUIRE(std::string(sm.line_text(id, line)) == (line == 0 ? "" : reference_line_text(text, line)));
             }
         }
     }
-    CHECK(files == 300);
 }
 
 TEST_CASE("a file that is one long line has its columns in code points") {
