@@ -5,6 +5,7 @@
 #   scripts/fuzz.sh TARGET [MINUTES] [--no-sanitizers] [--runs N [--resume [--parts P]
 #                   [--part-minutes M] [--part-runs K] [--state-dir DIR]] | --ci] [--keep-going]
 #                   [--record|--no-record] [--corpus DIR] [--jobs N] [--no-build] [--build-dir DIR]
+#   scripts/fuzz.sh TARGET [--no-sanitizers] [--state-dir DIR] [--build-dir DIR] --stop
 #
 # TARGET is a name of tests/fuzz/targets (sdv_frontend ir_reader btree gss_scenario lanelet2
 # cosim_frame sweep_results recording run_dir run_diff sweep_rows). The run is bounded by time
@@ -31,9 +32,10 @@
 # --state-dir, this machine's copy of the campaign is in DIR/machine, not in build/. The
 # command runs parts of M minutes (--part-minutes, default 10; --part-runs K: at most K
 # executions a part) one after the other until N executions in all, or P parts (--parts), or a
-# signal (SIGTERM or SIGINT to this script or to the fuzzer's main process); the state is written
-# after every part, so a machine that stops loses one part at most. Run the same command again to
-# go on. On a machine without the campaign's copy of its executable (build/PRESET/campaigns/
+# signal (SIGTERM or SIGINT to this script or to the fuzzer's main process; --stop sends it to the
+# script of the campaign of TARGET running on this machine and waits until the part under way is
+# counted); the state is written after every part, so a machine that stops loses one part at most.
+# Run the same command again to go on. On a machine without the campaign's copy of its executable (build/PRESET/campaigns/
 # TARGET) the executable is found again by its SHA-256: the current build's if it is the same
 # bytes (without sanitizers a build does not depend on its directory), else a build of the
 # commit's source (git archive into build/campaign-src/COMMIT, built as the campaign's source
@@ -77,12 +79,12 @@ declare -A ci_runs=([sdv_frontend]=1700 [ir_reader]=12000 [btree]=4000 [gss_scen
                     [run_dir]=3800 [run_diff]=3000 [sweep_rows]=3000)
 
 usage() {
-    sed -n '5,7p' "$0" >&2
+    sed -n '5,8p' "$0" >&2
     exit 2
 }
 
 target="" minutes=10 preset=fuzz runs="" record="" corpus="" jobs=1 keep_going=0 ci=0 build_it=1 resume=0
-max_parts="" part_minutes=10 part_runs="" state_dir="" build_dir=""
+max_parts="" part_minutes=10 part_runs="" state_dir="" build_dir="" stop=0
 given=("$@")
 number() { [[ "$2" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz.sh: $1 takes a positive whole number, not '$2'" >&2; usage; }; }
 while [ $# -gt 0 ]; do
@@ -100,6 +102,7 @@ while [ $# -gt 0 ]; do
         --ci) ci=1; build_it=0 ;;
         --no-build) build_it=0 ;;
         --no-record) record=0 ;;
+        --stop) stop=1 ;;
         --corpus) corpus=${2:?}; shift ;;
         --jobs) jobs=${2:?}; number "$1" "$jobs"; shift ;;
         -h|--help) usage ;;
@@ -115,6 +118,10 @@ if [ -z "${max_len[$target]:-}" ]; then
     exit 2
 fi
 [ "$ci" = 0 ] || runs=${ci_runs[$target]}
+if [ "$stop" = 1 ] && [ -n "$runs" ]; then
+    echo "fuzz.sh: --stop stops the campaign running: it takes no bound" >&2
+    usage
+fi
 if [ "$resume" = 1 ] && { [ -z "$runs" ] || [ "$ci" = 1 ]; }; then
     echo "fuzz.sh: --resume goes with --runs N" >&2
     usage
@@ -149,6 +156,47 @@ campaign=$build/campaigns/$target
 saved=$root/tests/fuzz/campaigns/$preset/$target
 if [ -n "$state_dir" ]; then
     campaign=$state_dir/machine/$preset/$target saved=$state_dir/$preset/$target
+fi
+stop_grace=${SDV_FUZZ_STOP_GRACE:-30}
+# running_script: the PID of the script running this campaign on this machine (its file
+# "running", written when its parts start), if that process is still such a script; else empty.
+running_script() {
+    local pid
+    pid=$(cat "$campaign/running" 2>/dev/null) || return 0
+    if [[ "$pid" =~ ^[0-9]+$ ]] && [ "$pid" != "$$" ] &&
+       tr '\0' ' ' <"/proc/$pid/cmdline" 2>/dev/null | grep -Eq "fuzz\.sh $target( |\$)"; then
+        echo "$pid"
+    fi
+}
+# --stop: SIGTERM to that script alone (not `pkill -f`, which also hits its subshells), then wait
+# for it to end, bounded by the fuzzer's grace and a minute to count and save the part.
+if [ "$stop" = 1 ]; then
+    pid=$(running_script)
+    if [ -z "$pid" ]; then
+        echo "fuzz.sh: no campaign of $target ($preset) is running on this machine" >&2
+        exit 1
+    fi
+    echo "fuzz.sh: stopping the campaign of $target ($preset): SIGTERM to its script, process $pid" >&2
+    kill -TERM "$pid"
+    for _ in $(seq $(((stop_grace + 60) * 2))); do
+        kill -0 "$pid" 2>/dev/null || break
+        sleep 0.5
+    done
+    if kill -0 "$pid" 2>/dev/null; then
+        echo "fuzz.sh: the campaign's script (process $pid) did not end within $((stop_grace + 60)) s" >&2
+        exit 2
+    fi
+    if [ -f "$saved" ]; then
+        # shellcheck disable=SC1090
+        . "$saved"
+        echo "fuzz.sh: campaign of fuzz_$target stopped: $c_execs of $c_runs executions in $c_parts part(s)," \
+             "$c_findings finding(s); run its command again to go on" >&2
+    fi
+    exit 0
+fi
+if [ "$resume" = 1 ] && pid=$(running_script) && [ -n "$pid" ]; then
+    echo "fuzz.sh: the campaign of $target ($preset) is already running on this machine (process $pid)" >&2
+    exit 2
 fi
 c_runs=0 c_execs=0 c_seconds=0 c_findings=0 c_parts=0 c_machines=0 c_commit="" c_clean=0 c_sha256=""
 c_toolchain="" c_started="" c_last="" c_command="" c_srcdir=""
@@ -315,7 +363,10 @@ work=$build/fuzz-work/$target
 findings=$build/findings/$target
 mkdir -p "$work" "$findings"
 logs=$(mktemp -d)
-trap 'rm -rf "$logs"' EXIT
+# Only this script's own process removes the logs: a subshell of it (the fuzzer's, before its exec)
+# killed by a signal runs this trap too, and removed them under the part being counted.
+running=""
+trap '[ "$BASHPID" != "$$" ] || rm -rf "$logs" ${running:+"$running"}' EXIT
 # SIGTERM or SIGINT to the script stops the fuzzer (as one to the fuzzer's main process does) and
 # ends the run after the part under way is counted.
 # libFuzzer's handler of SIGTERM prints its stats, removes its fork directory and exits; it
@@ -323,7 +374,7 @@ trap 'rm -rf "$logs"' EXIT
 # signal interrupted), so a fuzzer still running stop_grace seconds after the signal
 # (SDV_FUZZ_STOP_GRACE, default 30) is killed: a stopped run never waits on its fuzzer without
 # bound. The watchdog holds none of this script's descriptors (a test's output pipe stays free).
-fuzzer_pid="" stop_asked=0 watchdog_pid="" stop_grace=${SDV_FUZZ_STOP_GRACE:-30}
+fuzzer_pid="" stop_asked=0 watchdog_pid=""
 stop_fuzzer() {
     [ -n "$fuzzer_pid" ] || return 0
     kill -TERM "$fuzzer_pid" 2>/dev/null || true
@@ -361,12 +412,22 @@ fuzz_once() {
     echo "fuzz.sh: fuzz_$target ($preset) $* over $corpus/$target" >&2
     status=0
     local started=$SECONDS
-    (cd "$logs" && UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-        exec "$exe" "$@" "${common[@]}" "$work" "$corpus/$target" >"$logs/main.log" 2>&1) &
-    fuzzer_pid=$!
-    # A signal that came before the fuzzer started stops it now.
-    [ "$stop_asked" = 0 ] || stop_fuzzer
-    while :; do
+    # A signal that came before the part started ends it before the fuzzer starts (as a fuzzer
+    # stopped at once: exit status 72, no execution).
+    if [ "$stop_asked" = 1 ]; then
+        : >"$logs/main.log"
+        status=72
+    else
+        # The subshell drops this script's traps first: one that ran a signal's trap would go on
+        # to start the fuzzer, which nothing would stop before the watchdog.
+        (trap - TERM INT EXIT
+         cd "$logs" && UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+            exec "$exe" "$@" "${common[@]}" "$work" "$corpus/$target" >"$logs/main.log" 2>&1) &
+        fuzzer_pid=$!
+        # A signal that came while the fuzzer was starting stops it now.
+        [ "$stop_asked" = 0 ] || stop_fuzzer
+    fi
+    while [ -n "$fuzzer_pid" ]; do
         local st=0
         wait "$fuzzer_pid" || st=$?
         # A signal trapped by this script interrupts wait, not the fuzzer: wait again.
@@ -535,7 +596,10 @@ if [ "$resume" = 0 ]; then
 fi
 
 # The parts of a campaign: each from the corpus of the parts before on this machine (another
-# seed each: the part's number), its executions, time and findings added to the state.
+# seed each: the part's number), its executions, time and findings added to the state. One
+# script at a time runs a campaign (checked above); its PID is in the campaign's file "running".
+running=$campaign/running
+echo "$$" >"$running"
 parts_run=0 any_finding=0
 while [ "$c_execs" -lt "$c_runs" ] && [ "$stop_asked" = 0 ]; do
     if [ -n "$max_parts" ] && [ "$parts_run" -ge "$max_parts" ]; then break; fi
@@ -543,7 +607,9 @@ while [ "$c_execs" -lt "$c_runs" ] && [ "$stop_asked" = 0 ]; do
     [ -z "$part_runs" ] || [ "$part_runs" -ge "$left" ] || left=$part_runs
     fuzz_once -runs="$left" -seed="$((c_parts + 1))" -max_total_time=$((part_minutes * 60))
     parts_run=$((parts_run + 1))
-    if [ "$execs" -eq 0 ] && [ "$crashes" -eq 0 ] && [ "$stopped" = 0 ]; then
+    if [ "$execs" -eq 0 ] && [ "$crashes" -eq 0 ]; then
+        # Stopped before it executed an input: no part to count.
+        [ "$stopped" = 0 ] || break
         echo "fuzz.sh: a part of the campaign executed no input (log above); the campaign stops" >&2
         exit 2
     fi
@@ -568,6 +634,7 @@ if [ "$c_execs" -ge "$c_runs" ]; then
          "machine(s), $c_findings finding(s)" >&2
     execs=$c_execs crashes=$c_findings
     rate=$((c_seconds > 0 ? c_execs / c_seconds : 0))
+    rm -f "$running" && running=""
     mv "$campaign" "$campaign.done-$(date -u +%Y%m%d%H%M%S)"
     # The committed state goes (a finished campaign is its row); its findings stay until triaged.
     rm -f "$saved"

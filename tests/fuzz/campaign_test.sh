@@ -91,6 +91,34 @@ counted=0
 check "  and counts the executions of its part ($execs)" [ "$counted" = 1 ]
 check "  in one part" [ "$(state parts)" = 1 ]
 
+# --stop sends the signal to the campaign's script alone (its PID in the machine's copy), waits for
+# it to end and leaves the state whole: a part that executed inputs counted, one stopped before
+# its first input not. While the campaign runs, a second script for it is refused.
+(exec bash "$root/scripts/fuzz.sh" ir_reader "${nosan[@]}" --resume --state-dir "$tmp/state" --build-dir "$build" \
+    --corpus "$root/tests/fuzz/corpus" --no-build --no-record --runs 100000000 >"$tmp/stop.log" 2>&1) &
+script=$!
+for _ in $(seq 600); do  # until the part's fuzzer runs (a guard against a hang: 600 checks of 0.5 s)
+    pgrep -f "^$tmp/state/machine/$preset/ir_reader/fuzz_ir_reader " >/dev/null && break
+    sleep 0.5
+done
+fuzz --runs 100000000 >"$tmp/twice.log" 2>&1
+check "a second script for a campaign running is refused" [ $? = 2 ]
+check "  naming the one running" grep -q "already running on this machine (process $script)" "$tmp/twice.log"
+execs_before=$execs
+fuzz --stop >"$tmp/stopped.log" 2>&1
+check "--stop stops the campaign's script" [ $? = 0 ]
+kill -0 "$script" 2>/dev/null
+check "  which has ended when --stop returns" [ $? != 0 ]
+stop "$script" "$tmp/stop.log" >/dev/null 2>&1  # reaps it (at once; bounded if --stop failed)
+check "  stopped by a signal, not a finding" grep -q "stopped by a signal" "$tmp/stop.log"
+check "  its PID file gone" [ ! -e "$tmp/state/machine/$preset/ir_reader/running" ]
+grown=$(( $(state execs) > execs_before ))
+check "  a part counted if and only if it executed inputs ($execs_before, then $(state execs) in $(state parts))" \
+    [ "$(state parts)" = $((1 + grown)) ]
+fuzz --stop >"$tmp/none.log" 2>&1
+check "--stop with no campaign running says so" [ $? = 1 ]
+check "  in words" grep -q "no campaign of ir_reader .* is running on this machine" "$tmp/none.log"
+
 # What cannot go on is refused: a campaign built from uncommitted changes whose bytes are not
 # here, and one whose commit this repository does not have.
 rm -rf "$tmp/state/machine"
