@@ -122,7 +122,7 @@ if [ "$stop" = 1 ] && [ -n "$runs" ]; then
     echo "fuzz.sh: --stop stops the campaign running: it takes no bound" >&2
     usage
 fi
-if [ "$resume" = 1 ] && { [ -z "$runs" ] || [ "$ci" = 1 ]; }; then
+if [ "$resume" = 1 ] && [ "$stop" = 0 ] && { [ -z "$runs" ] || [ "$ci" = 1 ]; }; then
     echo "fuzz.sh: --resume goes with --runs N" >&2
     usage
 fi
