@@ -198,7 +198,8 @@ if [ "$resume" = 1 ] && pid=$(running_script) && [ -n "$pid" ]; then
     echo "fuzz.sh: the campaign of $target ($preset) is already running on this machine (process $pid)" >&2
     exit 2
 fi
-c_runs=0 c_execs=0 c_seconds=0 c_findings=0 c_parts=0 c_machines=0 c_commit="" c_clean=0 c_sha256=""
+# c_fork_parts: how many of the parts ran in fork mode (--keep-going); a campaign may change modes.
+c_runs=0 c_execs=0 c_seconds=0 c_findings=0 c_parts=0 c_fork_parts=0 c_machines=0 c_commit="" c_clean=0 c_sha256=""
 c_toolchain="" c_started="" c_last="" c_command="" c_srcdir=""
 save_state() {
     local f
@@ -207,7 +208,7 @@ save_state() {
     for f in "$campaign/state" "$saved"; do
         printf '# A fuzz campaign of scripts/fuzz.sh --resume (tests/fuzz/README.md); written by the script.\n' >"$f.part"
         printf 'c_%s=%q\n' runs "$c_runs" execs "$c_execs" seconds "$c_seconds" findings "$c_findings" \
-            parts "$c_parts" machines "$c_machines" commit "$c_commit" clean "$c_clean" sha256 "$c_sha256" \
+            parts "$c_parts" fork_parts "$c_fork_parts" machines "$c_machines" commit "$c_commit" clean "$c_clean" sha256 "$c_sha256" \
             toolchain "$c_toolchain" started "$c_started" last "$c_last" command "$c_command" \
             srcdir "$c_srcdir" >>"$f.part"
         mv -f "$f.part" "$f"
@@ -514,7 +515,13 @@ record_row() {
         machines_text=$([ "$c_machines" = 1 ] && echo "" || echo " on $c_machines machines")
         bound_text="$bound_text in $parts_text$machines_text (one executable, built from $c_commit)"
     fi
-    [ "$keep_going" = 0 ] || bound_text="$bound_text, fork mode"
+    if [ "$resume" = 0 ]; then
+        [ "$keep_going" = 0 ] || bound_text="$bound_text, fork mode"
+    elif [ "$c_fork_parts" -gt 0 ] && [ "$c_fork_parts" -ge "$c_parts" ]; then
+        bound_text="$bound_text, fork mode"
+    elif [ "$c_fork_parts" -gt 0 ]; then
+        bound_text="$bound_text, $c_fork_parts of them in fork mode"
+    fi
     [ "$per_input" = 1 ] || bound_text="$bound_text, ${per_input} s per input"
     [ "$stopped" = 0 ] || [ "$resume" = 1 ] || bound_text="$bound_text, stopped by a signal"
     row="| $target | $build_kind | $execs | $rate | $cov | $ft | $crashes | $bound_text | $(date -u +%Y-%m-%d) |"
@@ -615,6 +622,7 @@ while [ "$c_execs" -lt "$c_runs" ] && [ "$stop_asked" = 0 ]; do
     fi
     c_parts=$((c_parts + 1)) c_execs=$((c_execs + execs)) c_seconds=$((c_seconds + seconds))
     c_findings=$((c_findings + crashes))
+    [ "$keep_going" = 0 ] || c_fork_parts=$((c_fork_parts + 1))
     if [ -n "$new_findings" ]; then
         # The artifacts go beside the committed state: they outlive this machine.
         mkdir -p "$saved.findings"

@@ -141,6 +141,10 @@ check "a machine's copy without its state is not resumed" [ $? = 0 ]
 check "  saying so" grep -q "without a state in .*: starting a new campaign" "$tmp/8.log"
 check "  and the new campaign has one part of 1,000 on one machine" \
     [ "$(state execs)/$(state parts)/$(state machines)" = 1000/1/1 ]
+check "  in one process" [ "$(state fork_parts)" = 0 ]
+# A part in fork mode (--keep-going) is counted as one: the row names the modes of all parts.
+fuzz --runs 2000 --part-runs 500 --parts 1 --keep-going >"$tmp/fork.log" 2>&1
+check "a part in fork mode is counted as such" [ "$(state parts)/$(state fork_parts)" = 2/1 ]
 
 # A fuzzer that does not stop on SIGTERM (as libFuzzer whose handler blocks) is killed after the
 # grace (SDV_FUZZ_STOP_GRACE, here 1 s): fuzz.sh ends, counting its last status line. The stand-in
