@@ -1185,9 +1185,26 @@ std::optional<std::string> BtreeLibrary::call_with_config(const std::string& nam
         for (const auto& [path, lowered] : done_) {
             if (lowered.name == *tree) l = &lowered;
         }
-        std::vector<std::string> extra;
+        // The entries of each condition node, in the order the nodes first appear: the reference
+        // reconfigures a node once per entry, and a condition's arguments accumulate.
+        std::vector<std::vector<const BtNode*>> entries;
+        std::map<std::string, size_t> entries_of;
         for (const BtNode& c : root.children[1].children) {
-            if (l != nullptr) condition_overrides(c, *l, extra);
+            const auto [slot, fresh] = entries_of.try_emplace(c.label, entries.size());
+            if (fresh) {
+                entries.emplace_back();
+            } else {
+                auto& d = diags_.warning("W0905", "gss-reconfigured-twice", c.label_range,
+                                         "condition node '" + c.label + "' of '" + stem +
+                                             "' is reconfigured again; its arguments replace the earlier ones of the same name");
+                d.notes.push_back({entries[slot->second].front()->label_range, "first reconfigured here"});
+                d.notes.push_back({{}, "the reference merges each entry's arguments into the node's (BCondition.reconfigure)"});
+            }
+            entries[slot->second].push_back(&c);
+        }
+        std::vector<std::string> extra;
+        for (const auto& node_entries : entries) {
+            if (l != nullptr) condition_overrides(node_entries, *l, extra);
         }
         if (diags_.error_count() > before) return std::nullopt;
         call.pop_back();  // ')'
@@ -1197,7 +1214,9 @@ std::optional<std::string> BtreeLibrary::call_with_config(const std::string& nam
     return call;
 }
 
-void BtreeLibrary::condition_overrides(const BtNode& leaf, const Lowered& root, std::vector<std::string>& out) {
+void BtreeLibrary::condition_overrides(const std::vector<const BtNode*>& entries, const Lowered& root,
+                                       std::vector<std::string>& out) {
+    const BtNode& leaf = *entries.front();
     const auto found = find_node(root, leaf.label, true);
     if (!found || !found->info->mconfig.empty()) {
         auto& d = diags_.error("E0908", leaf.label_range, "the tree '" + root.name + "' has no condition node '" + leaf.label + "'");
@@ -1213,27 +1232,29 @@ void BtreeLibrary::condition_overrides(const BtNode& leaf, const Lowered& root, 
             .notes.push_back({{}, "it is lowered to several sdv conditions (docs/geoscenario.md)"});
         return;
     }
-    if (leaf.call.text != info.condition->text) {
-        diags_.error("E0909", leaf.call.name_range,
-                     "the reconfiguration of '" + leaf.label + "' changes its condition from " + info.condition->text + " to " +
-                         leaf.call.text)
-            .notes.push_back({{}, "sdv overrides change a node's parameters, not its condition"});
-        return;
-    }
-    // BCondition.reconfigure: the arguments given replace the node's of the same name; the
-    // others keep theirs.
+    // BCondition.reconfigure, once per entry: the arguments given replace the node's of the same
+    // name; the others keep theirs.
     BtValue merged = *info.condition;
-    for (const BtItem& it : leaf.call.items) {
-        if (!it.key) {
-            diags_.error("E0906", it.range, "unexpected positional value in a condition's reconfiguration")
-                .notes.push_back({{}, "write ID=condition,args=(name=value, ...)"});
+    for (const BtNode* entry : entries) {
+        if (entry->call.text != info.condition->text) {
+            diags_.error("E0909", entry->call.name_range,
+                         "the reconfiguration of '" + leaf.label + "' changes its condition from " + info.condition->text + " to " +
+                             entry->call.text)
+                .notes.push_back({{}, "sdv overrides change a node's parameters, not its condition"});
             return;
         }
-        auto same = std::find_if(merged.items.begin(), merged.items.end(), [&](const BtItem& m) { return m.key == it.key; });
-        if (same != merged.items.end()) {
-            *same = it;
-        } else {
-            merged.items.push_back(it);
+        for (const BtItem& it : entry->call.items) {
+            if (!it.key) {
+                diags_.error("E0906", it.range, "unexpected positional value in a condition's reconfiguration")
+                    .notes.push_back({{}, "write ID=condition,args=(name=value, ...)"});
+                return;
+            }
+            auto same = std::find_if(merged.items.begin(), merged.items.end(), [&](const BtItem& m) { return m.key == it.key; });
+            if (same != merged.items.end()) {
+                *same = it;
+            } else {
+                merged.items.push_back(it);
+            }
         }
     }
     const CondMap* cmap = find_condition(merged.text, root.agent);

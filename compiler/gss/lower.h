@@ -136,8 +136,10 @@ private:
     // `deep`: overrides reach the nodes of the tree's own subtrees too (a vehicle's btconfig).
     // `never_fails`, when given: whether the tree's root never fails (NodeText).
     std::string lower_subtree(const BtNode& n, BtAgent agent, TreeState* t, bool deep, bool* never_fails = nullptr);
-    // A btconfig's `ID=condition,args=(k=v,...)`: overrides of that condition node's arguments.
-    void condition_overrides(const BtNode& leaf, const Lowered& root, std::vector<std::string>& out);
+    // A btconfig's `ID=condition,args=(k=v,...)` entries of one node, in order: overrides of
+    // that condition node's arguments, each entry's merged into the node's as the one before
+    // left them (BCondition.reconfigure).
+    void condition_overrides(const std::vector<const BtNode*>& entries, const Lowered& root, std::vector<std::string>& out);
     static std::optional<Found> find_node(const Lowered& l, const std::string& name, bool deep);
     static void node_names(const Lowered& l, bool deep, std::vector<std::string>& out);
 

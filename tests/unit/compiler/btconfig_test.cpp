@@ -4,7 +4,10 @@
 // leaves (reconfigure_nodes runs before the subtree's own subtrees are linked in); a btconfig
 // replaces that of the first node of that name among the leaves of the whole linked tree, in
 // order, however deep (reconfigure_nodes over the built tree). Every other node keeps its own.
-// The lowered .sdv is compiled and each keep-velocity node of the IR compared with the model.
+// A btconfig may name a node more than once: each entry reconfigures it again, a maneuver's
+// replacing its configuration, a condition's (`NODE=sim_time,args=(tmax=...)`) merging its
+// arguments into the node's (BCondition.reconfigure). The lowered .sdv is compiled and each
+// keep-velocity and each sim_time node of the IR compared with the model.
 #include <doctest/doctest.h>
 
 #include <nlohmann/json.hpp>
@@ -14,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -56,6 +60,23 @@ struct Leaf {
     bool condition = false;
     Config config;
     int depth = 0;  // 0: a node of the tree itself; n: of a subtree n references down
+    double tmin = 0, tmax = 1000;  // a condition's arguments: sim_time(tmin=0, tmax=1000) in the tree
+};
+
+// A btconfig entry: NAME=MVelKeepConfig(...), or NAME=sim_time,args=(tmin=..,tmax=..) with
+// either argument or both.
+struct Entry {
+    std::string name;
+    bool condition = false;
+    Config config;
+    std::optional<int> tmin, tmax;
+    std::string text() const {
+        if (!condition) return name + "=" + config.text();
+        std::string args;
+        if (tmin) args += "tmin=" + std::to_string(*tmin);
+        if (tmax) args += std::string(args.empty() ? "" : ",") + "tmax=" + std::to_string(*tmax);
+        return name + "=sim_time,args=(" + args + ")";
+    }
 };
 
 std::vector<Leaf> expand(const std::vector<Tree>& trees, size_t i, const std::vector<std::pair<std::string, Config>>& overrides) {
@@ -163,8 +184,10 @@ TEST_CASE("btconfig and subtree overrides reconfigure the nodes the reference's 
         return c;
     };
     const fs::path root = fs::temp_directory_path() / ("sdv-btconfig-test-" + std::to_string(::getpid()));
-    int checked = 0, deep[3] = {0, 0, 0};
-    for (int round = 0; round < 60; ++round) {
+    int checked = 0, deep[3] = {0, 0, 0}, checked_conditions = 0;
+    // Entries that reconfigure a node for the first time, and again.
+    int maneuvers_again[2] = {0, 0}, conditions_again[2] = {0, 0};
+    for (int round = 0; round < 100; ++round) {
         // A family of trees t0..tN; ti refers only to tj with j > i (no cycle).
         next_speed = 1;  // distinct speeds name the configurations
         const size_t count = 2 + static_cast<size_t>(pick(3));
@@ -173,7 +196,7 @@ TEST_CASE("btconfig and subtree overrides reconfigure the nodes the reference's 
             const int leaves = 1 + pick(3);
             for (int k = 0; k < leaves; ++k) {
                 Node n;
-                n.condition = pick(6) == 0;
+                n.condition = pick(4) == 0;
                 n.name = names[static_cast<size_t>(pick(3))];  // a condition may share a maneuver's name
                 if (!n.condition) n.config = config();
                 trees[i].push_back(n);
@@ -198,7 +221,10 @@ TEST_CASE("btconfig and subtree overrides reconfigure the nodes the reference's 
                 if (!s.subtree || pick(2) == 0) continue;
                 const size_t j = static_cast<size_t>(std::stoi(s.name.substr(1)));
                 for (const Node& m : trees[j]) {
-                    if (!m.subtree && !m.condition && pick(2) == 0) {
+                    // A name whose first leaf in the tree is a maneuver (else E0908).
+                    const auto first = std::find_if(trees[j].begin(), trees[j].end(),
+                                                    [&](const Node& o) { return !o.subtree && o.name == m.name; });
+                    if (!m.subtree && !first->condition && pick(2) == 0) {
                         bool dup = false;
                         for (const auto& o : s.overrides) dup = dup || o.first == m.name;
                         if (!dup) s.overrides.push_back({m.name, config()});
@@ -210,28 +236,53 @@ TEST_CASE("btconfig and subtree overrides reconfigure the nodes the reference's 
         fs::create_directories(root);
         for (size_t i = 0; i < count; ++i) std::ofstream(root / ("t" + std::to_string(i) + ".btree")) << btree_text(trees[i], i);
 
-        // The btconfig: one or two names, each with a new configuration.
-        std::vector<std::pair<std::string, Config>> btconfig;
-        const int items = 1 + pick(2);
+        // The btconfig: one to four entries, a name again in some (each entry reconfigures the
+        // node once more), maneuvers' and conditions'.
+        // Most name a node of the linked tree by its first node of that name (as it has to be), a
+        // third of them the node of the entry before; one in eight of the others takes any name
+        // and kind, which may name none (E0908).
+        const std::vector<Leaf> linked = expand(trees, 0, {});
+        std::vector<Entry> btconfig;
+        const int items = 1 + pick(4);
         for (int k = 0; k < items; ++k) {
-            const std::string name = names[static_cast<size_t>(pick(3))];
-            bool dup = false;
-            for (const auto& o : btconfig) dup = dup || o.first == name;
-            if (!dup) btconfig.push_back({name, config()});
+            Entry e;
+            if (k > 0 && pick(3) == 0) {  // the node of the entry before, again
+                e.name = btconfig.back().name;
+                e.condition = btconfig.back().condition;
+            } else if (pick(8) == 0) {
+                e.name = names[static_cast<size_t>(pick(3))];
+                e.condition = pick(2) == 0;
+            } else {
+                e.name = linked[static_cast<size_t>(pick(static_cast<int>(linked.size())))].name;
+                e.condition = std::find_if(linked.begin(), linked.end(), [&](const Leaf& l) { return l.name == e.name; })->condition;
+            }
+            if (e.condition) {
+                const int which = pick(3);  // tmin, tmax or both
+                if (which != 1) e.tmin = 1 + pick(50);
+                if (which != 0) e.tmax = 100 + pick(800);
+            } else {
+                e.config = config();
+            }
+            btconfig.push_back(e);
         }
         std::string text;
-        for (const auto& [name, c] : btconfig) text += name + "=" + c.text() + ";";
+        for (const Entry& e : btconfig) text += e.text() + ";";
 
-        std::vector<Leaf> expected = expand(trees, 0, {});
+        std::vector<Leaf> expected = linked;
         bool refused = false;
-        for (const auto& [name, c] : btconfig) {
-            const std::string& wanted = name;  // clang 14 cannot capture a structured binding
-            auto it = std::find_if(expected.begin(), expected.end(), [&](const Leaf& l) { return l.name == wanted; });
-            if (it == expected.end() || it->condition) {
-                refused = true;  // no maneuver node of that name: E0908
+        std::set<std::string> named;
+        for (const Entry& e : btconfig) {
+            auto it = std::find_if(expected.begin(), expected.end(), [&](const Leaf& l) { return l.name == e.name; });
+            if (it == expected.end() || it->condition != e.condition) {
+                refused = true;  // no node of that name and kind: E0908
+            } else if (e.condition) {
+                if (e.tmin) it->tmin = *e.tmin;
+                if (e.tmax) it->tmax = *e.tmax;
+                ++conditions_again[named.insert(e.name).second ? 0 : 1];
             } else {
-                it->config = c;
+                it->config = e.config;
                 ++deep[std::min(it->depth, 2)];
+                ++maneuvers_again[named.insert(e.name).second ? 0 : 1];
             }
         }
         INFO("round " << round << ", btconfig " << text);
@@ -245,6 +296,9 @@ TEST_CASE("btconfig and subtree overrides reconfigure the nodes the reference's 
             CHECK(e0908);
             continue;
         }
+        std::string messages;
+        for (const auto& d : got.diags) messages += std::string(d.code) + ": " + d.message + "\n";
+        INFO(messages);
         REQUIRE(got.ir.has_value());
         std::vector<json> maneuvers;
         for (const auto& n : (*got.ir)["program"]["instances"][0]["nodes"]) {
@@ -262,9 +316,31 @@ TEST_CASE("btconfig and subtree overrides reconfigure the nodes the reference's 
                   doctest::Approx(expected_maneuvers[k].config.duration.value_or(default_duration)));
             ++checked;
         }
+        // The conditions named like the maneuvers (not the gates, c_gate, c_gate_2, ...), in order.
+        std::vector<json> conditions;
+        for (const auto& n : (*got.ir)["program"]["instances"][0]["nodes"]) {
+            if (n["kind"] == "condition" && n["name"].get<std::string>().rfind("c_gate", 0) != 0) conditions.push_back(n);
+        }
+        std::vector<Leaf> expected_conditions;
+        for (const Leaf& l : expected) {
+            if (l.condition) expected_conditions.push_back(l);
+        }
+        REQUIRE(conditions.size() == expected_conditions.size());
+        for (size_t k = 0; k < conditions.size(); ++k) {
+            INFO("condition " << k << " " << conditions[k].dump());
+            CHECK(value(conditions[k]["params"]["after"]) == doctest::Approx(expected_conditions[k].tmin));
+            CHECK(value(conditions[k]["params"]["before"]) == doctest::Approx(expected_conditions[k].tmax));
+            ++checked_conditions;
+        }
     }
     fs::remove_all(root);
     CHECK(checked > 200);
+    CHECK(checked_conditions > 20);
+    // Nodes reconfigured once and again, maneuvers and conditions.
+    CHECK(maneuvers_again[0] > 10);
+    CHECK(maneuvers_again[1] > 5);
+    CHECK(conditions_again[0] > 5);
+    CHECK(conditions_again[1] > 2);
     // The random families reach nodes of the tree itself, of its subtrees, and deeper.
     CHECK(deep[0] > 5);
     CHECK(deep[1] > 5);
