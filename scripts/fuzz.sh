@@ -312,7 +312,8 @@ if [ "$resume" = 1 ]; then
         exe=$campaign/fuzz_$target
         c_runs=$runs c_machines=1 c_started=$(date -u +%Y-%m-%d) c_command="scripts/fuzz.sh ${given[*]}"
         # The source the executable was built from (--build-dir may be another checkout's build).
-        c_srcdir=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$build/CMakeCache.txt" 2>/dev/null)
+        # (none without a CMakeCache.txt, as a directory holding only fuzz/fuzz_TARGET: this checkout)
+        c_srcdir=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$build/CMakeCache.txt" 2>/dev/null) || c_srcdir=""
         c_srcdir=${c_srcdir:-$root}
         # The commit: that checkout's HEAD, when no tracked file differs from it (but the ones
         # this script writes); otherwise the campaign can go on only where the same bytes are
