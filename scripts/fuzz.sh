@@ -35,12 +35,13 @@
 # signal (SIGTERM or SIGINT to this script or to the fuzzer's main process; --stop sends it to the
 # script of the campaign of TARGET running on this machine and waits until the part under way is
 # counted); the state is written after every part, so a machine that stops loses one part at most.
-# Run the same command again to go on. On a machine without the campaign's copy of its executable (build/PRESET/campaigns/
-# TARGET) the executable is found again by its SHA-256: the current build's if it is the same
-# bytes (without sanitizers a build does not depend on its directory), else a build of the
-# commit's source (git archive into build/campaign-src/COMMIT, built as the campaign's source
-# directory in a private mount namespace); other bytes are refused. The row is recorded
-# when the campaign ends, with --record also a row a part in the table of campaigns under way.
+# Run the same command again to go on. On a machine without the campaign's copy of its
+# executable (build/PRESET/campaigns/TARGET) the executable is found again by its SHA-256: the
+# current build's if it is the same bytes (without sanitizers a build does not depend on its
+# directory), else a build of the commit's source (git archive into build/campaign-src/COMMIT,
+# built as the campaign's source directory in a private mount namespace); other bytes are refused.
+# The row is recorded when the campaign ends, with --record also a row a part in the table of
+# campaigns under way.
 # Exit status: 0 no finding, 1 a finding, 2 usage or build errors.
 # The whole script is one block, read before it runs: a campaign runs for hours, and bash reads a
 # script as it goes, so an edit of this file would otherwise change the commands of a run under way.
@@ -199,7 +200,8 @@ if [ "$resume" = 1 ] && pid=$(running_script) && [ -n "$pid" ]; then
     exit 2
 fi
 # c_fork_parts: how many of the parts ran in fork mode (--keep-going); a campaign may change modes.
-c_runs=0 c_execs=0 c_seconds=0 c_findings=0 c_parts=0 c_fork_parts=0 c_machines=0 c_commit="" c_clean=0 c_sha256=""
+c_runs=0 c_execs=0 c_seconds=0 c_findings=0 c_parts=0 c_fork_parts=0 c_machines=0 c_commit="" c_clean=0
+c_sha256=""
 c_toolchain="" c_started="" c_last="" c_command="" c_srcdir=""
 save_state() {
     local f
@@ -208,7 +210,8 @@ save_state() {
     for f in "$campaign/state" "$saved"; do
         printf '# A fuzz campaign of scripts/fuzz.sh --resume (tests/fuzz/README.md); written by the script.\n' >"$f.part"
         printf 'c_%s=%q\n' runs "$c_runs" execs "$c_execs" seconds "$c_seconds" findings "$c_findings" \
-            parts "$c_parts" fork_parts "$c_fork_parts" machines "$c_machines" commit "$c_commit" clean "$c_clean" sha256 "$c_sha256" \
+            parts "$c_parts" fork_parts "$c_fork_parts" machines "$c_machines" commit "$c_commit" \
+            clean "$c_clean" sha256 "$c_sha256" \
             toolchain "$c_toolchain" started "$c_started" last "$c_last" command "$c_command" \
             srcdir "$c_srcdir" >>"$f.part"
         mv -f "$f.part" "$f"
