@@ -134,6 +134,13 @@ std::string btree_text(const Tree& t, size_t i) {
 // A parameter's nominal value in the IR (a number, or an object when it has a spread).
 double value(const json& p) { return p.is_number() ? p.get<double>() : p.at("value").get<double>(); }
 
+// The diagnostics as lines of code and message, to show with a failed check.
+std::string messages(const std::vector<sdv::diag::Diagnostic>& diags) {
+    std::string out;
+    for (const auto& d : diags) out += std::string(d.code) + ": " + d.message + "\n";
+    return out;
+}
+
 struct Lowered {
     std::optional<json> ir;
     std::vector<sdv::diag::Diagnostic> diags;
@@ -159,10 +166,8 @@ Lowered lower_and_compile(const fs::path& dir, const std::string& btconfig) {
     auto c = sdv::compiler::compile_source("lowered.sdv", text, sm2, diags2);
     r.diags = diags2.sorted();
     if (c.program) r.ir = json::parse(sdv::ir::write_ir(*c.program));
-    std::string messages;
-    for (const auto& d : r.diags) messages += std::string(d.code) + ": " + d.message + "\n";
     INFO(text);
-    INFO(messages);
+    INFO(messages(r.diags));
     CHECK(r.ir.has_value());
     return r;
 }
@@ -296,9 +301,7 @@ TEST_CASE("btconfig and subtree overrides reconfigure the nodes the reference's 
             CHECK(e0908);
             continue;
         }
-        std::string messages;
-        for (const auto& d : got.diags) messages += std::string(d.code) + ": " + d.message + "\n";
-        INFO(messages);
+        INFO(messages(got.diags));
         REQUIRE(got.ir.has_value());
         std::vector<json> maneuvers;
         for (const auto& n : (*got.ir)["program"]["instances"][0]["nodes"]) {
