@@ -95,6 +95,13 @@ ENTRIES = {
     "E0305": ("too many candidates",
               "The product of a maneuver's sample counts exceeds 20,000 candidate trajectories "
               "per planning cycle."),
+    "E0306": ("tree too large",
+              "A vehicle's tree, with its subtrees inlined, has more than 10,000 nodes, or the "
+              "trees of all the agents of one scenario more than 1,000,000. Each reference to a "
+              "subtree inlines it again, so a tree that references another twice, which "
+              "references a third twice, and so on, doubles at every level: 13 such levels pass "
+              "10,000 nodes. Reference a large subtree once (a `fallback` or `sequence` can hold "
+              "what the two references did), or give fewer agents a large tree."),
     "E0401": ("missing required parameter",
               "A required maneuver or condition parameter, or a tree parameter without default, "
               "is not given."),
@@ -114,7 +121,16 @@ ENTRIES = {
               "drive by theirs (`sdv catalog` says which leaf is for whom; conditions such as "
               "`sim_time` and `reached_goal` are for any agent)."),
     "E0501": ("no road", "A scenario must name its road, junction or map with `road NAME`."),
-    "E0502": ("vehicles overlap", "Two vehicles start with overlapping footprints."),
+    "E0502": ("vehicles overlap",
+              "Two vehicles start with overlapping footprints: on the same lane, their rectangles "
+              "(length along the lane, width across it, about their start) share an area; touching "
+              "nose to tail or side by side is no overlap. Vehicles placed by `at (X, Y)` and "
+              "trajectories whose first waypoint is after 0 s are not checked. The error is at each "
+              "vehicle that overlaps one behind it (whose back is further back along the lane; of "
+              "two at the same place, the one declared first), naming one of those: a vehicle on "
+              "top of several others gets one error, and `n` vehicles at one place get `n - 1` "
+              "(of a template, one error naming the instances). The check takes time in `n log n` "
+              "for `n` vehicles, wherever they are."),
     "E0503": ("off the road", "A position lies outside the road (before its start, past its end, or beyond its lane)."),
     "E0504": ("duplicate setting", "A setting or statement is given twice."),
     "E0505": ("sdv without tree", "An `sdv` vehicle needs a `tree`."),

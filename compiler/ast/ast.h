@@ -276,9 +276,12 @@ struct VehicleDecl {
     Boxed<Repeat> repeat;
     // An agent expanded from a template (set by the checker, never by the parser): how
     // messages name it ("v7 (i = 7)") and the template it comes from ("v[1..50]").
+    // `tree_of` is the template when its tree reference does not use the index, so that its
+    // instances' trees expand alike (the checker expands it once per scenario); else null.
     struct Instance {
         std::string label;
         std::string of;
+        const VehicleDecl* tree_of = nullptr;
     };
     std::shared_ptr<const Instance> instance;
     SourceRange range;

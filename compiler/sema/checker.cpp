@@ -67,7 +67,7 @@ diag::Diagnostic* Checker::error(const std::string& code, SourceRange r, const s
     // One error per code and place: expanding a tree re-checks values already checked at
     // the subtree reference, with other words for the same mistake.
     auto key = std::make_tuple(code, r.begin.file, r.begin.offset, std::string());
-    (void)msg;
+    if (error_log_ != nullptr) error_log_->emplace_back(code, r);
     const bool first = reported_.insert(key).second;
     // An agent expanded from a template: the error is reported once, at the template, with a
     // note naming every instance it failed for (attach_instance_notes, repeat.cpp).

@@ -41,6 +41,11 @@ inline constexpr int kMaxCandidates = 20000;
 inline constexpr int kMaxExpansionDepth = 64;
 inline constexpr int64_t kMaxRepeat = 10000;         // agents of one template
 inline constexpr int64_t kMaxScenarioAgents = 100000;  // agents of one scenario, templates expanded
+// Nodes of one agent's tree with its subtrees inlined, and of all the agents' trees of a scenario
+// (E0306): a subtree referenced twice is inlined twice, so a chain of such trees doubles its size
+// at every level.
+// (the second: CompileOptions::max_scenario_tree_nodes).
+inline constexpr size_t kMaxTreeNodes = 10000;
 
 // ------------------------------------------------------------------ small helpers
 
@@ -230,6 +235,13 @@ private:
     void check_map(const ast::MapDecl& m, RoadSym& sym);
 
     // ---------------------------------------------------------------- scenarios (scenarios.cpp)
+    // A tree expanded for the first instance of a template (Instance::tree_of), for the
+    // others: the IR instance (-1 if it failed) and the errors it reported, reported again for
+    // each of them so that the template's errors name every instance they fail for.
+    struct ExpandedTree {
+        int32_t instance = -1;
+        std::vector<std::pair<std::string, SourceRange>> errors;
+    };
     struct ScenarioCtx {
         ir::Scenario* ir = nullptr;
         const RoadSym* road = nullptr;
@@ -237,6 +249,8 @@ private:
         std::vector<std::string> vehicle_names;
         int32_t ego = -1;
         std::string name;
+        std::map<const ast::VehicleDecl*, ExpandedTree> expanded_trees;
+        size_t tree_nodes = 0;  // of the agents' trees expanded so far (max_scenario_tree_nodes)
     };
 
     void check_scenario(const ast::ScenarioDecl& s, ir::Program& program);
@@ -262,7 +276,9 @@ private:
                         size_t index, const std::vector<double>& base, ir::VaryParam& out);
 
     // ---------------------------------------------------------------- expansion (expand.cpp)
-    int32_t expand_vehicle_tree(const ast::TreeRef& ref, ScenarioCtx& ctx, ir::Program& program);
+    int32_t expand_vehicle_tree(const ast::VehicleDecl& v, ScenarioCtx& ctx, ir::Program& program);
+    int32_t expand_tree_ref(const ast::TreeRef& ref, ScenarioCtx& ctx, ir::Program& program);
+    bool within_tree_budget(const ir::TreeInstance& inst, const ast::TreeRef& ref, ScenarioCtx& ctx);
     void check_crosswalks(const std::vector<ast::CrosswalkDecl>& xs, RoadSym& sym, bool junction);
     void check_tree_agent(const ast::TreeRef& ref, const ir::Vehicle& v, const ir::Program& program);
     std::optional<double> check_speed(const ast::Value& v, const std::string& what);
@@ -287,7 +303,11 @@ private:
     std::vector<RoadDeclRef> road_decls_;
     std::vector<RoadSym> roads_;
     std::set<size_t> cyclic_;
+    // can_select and always_succeeds of a tree's body at a depth (trees.cpp).
+    std::map<std::pair<size_t, int>, bool> can_select_memo_, succeeds_memo_;
     std::set<std::tuple<std::string, uint32_t, uint32_t, std::string>> reported_;
+    // Where error() also notes each error's code and place, when set (expand_vehicle_tree).
+    std::vector<std::pair<std::string, SourceRange>>* error_log_ = nullptr;
     diag::Diagnostic scratch_;
     // Agent templates: the expanded scenarios (owned here, the AST keeps what was written),
     // the instance being checked, and per error first reported for an instance the instances

@@ -8,8 +8,35 @@
 
 namespace sdv::compiler::sema {
 
-int32_t Checker::expand_vehicle_tree(const ast::TreeRef& ref, ScenarioCtx& ctx,
-                                     ir::Program& program) {
+// The instances of a template whose tree reference does not use the index share one expansion
+// (a template of 10,000 agents expands its tree once, not 10,000 times): each gets a copy of the
+// first one's IR instance, and its errors again.
+int32_t Checker::expand_vehicle_tree(const ast::VehicleDecl& v, ScenarioCtx& ctx, ir::Program& program) {
+    const ast::VehicleDecl* same = v.instance != nullptr ? v.instance->tree_of : nullptr;
+    if (same == nullptr) return expand_tree_ref(v.trees[0], ctx, program);
+    if (auto it = ctx.expanded_trees.find(same); it != ctx.expanded_trees.end()) {
+        // Each was reported already: error() counts this instance in the template's error.
+        for (const auto& [code, range] : it->second.errors) (void)error(code, range, std::string());
+        if (it->second.instance < 0 || !within_tree_budget(program.instances[static_cast<size_t>(it->second.instance)], v.trees[0], ctx)) {
+            return -1;
+        }
+        ir::TreeInstance copy = program.instances[static_cast<size_t>(it->second.instance)];
+        program.instances.push_back(std::move(copy));
+        return static_cast<int32_t>(program.instances.size() - 1);
+    }
+    ExpandedTree first;
+    auto* outer = error_log_;
+    error_log_ = &first.errors;
+    first.instance = expand_tree_ref(v.trees[0], ctx, program);
+    error_log_ = outer;
+    if (outer != nullptr) outer->insert(outer->end(), first.errors.begin(), first.errors.end());
+    if (!first.errors.empty()) first.instance = -1;
+    const int32_t index = first.instance;
+    ctx.expanded_trees.emplace(same, std::move(first));
+    return index;
+}
+
+int32_t Checker::expand_tree_ref(const ast::TreeRef& ref, ScenarioCtx& ctx, ir::Program& program) {
     Env caller;  // scenario level: no parameters
     TreeSym* t = check_subtree_ref(ref.name, ref.args, caller, ref.range);
     if (t == nullptr || !t->ok || cyclic_.count(tree_index_[t->qname])) return -1;
@@ -17,7 +44,15 @@ int32_t Checker::expand_vehicle_tree(const ast::TreeRef& ref, ScenarioCtx& ctx,
     const size_t errors_before = diags_->error_count();
     Env env = bind(*t, ref.args, &caller, caller);
     if (t->decl->body.size() == 1) expand_node(*t->decl->body[0], env, ctx, inst, t->qname);
+    if (inst.nodes.size() > kMaxTreeNodes) {
+        auto* d = error("E0306", ref.range, "tree '" + t->qname + "' expands to more than " + std::to_string(kMaxTreeNodes) +
+                                                " nodes with its subtrees inlined");
+        d->notes.push_back({{}, "each reference to a subtree inlines it again: a tree referencing another twice, which "
+                                "references a third twice, doubles at every level"});
+        return -1;
+    }
     if (diags_->error_count() != errors_before || inst.nodes.empty()) return -1;
+    if (!within_tree_budget(inst, ref, ctx)) return -1;
     check_candidate_counts(inst, ref);
     program.instances.push_back(std::move(inst));
     return static_cast<int32_t>(program.instances.size() - 1);
@@ -62,9 +97,28 @@ static void pass_through(const Env& outer, const std::string& label, Env& sub) {
     }
 }
 
+// Whether a scenario's agents' trees, with this one, stay within max_scenario_tree_nodes; if not,
+// an error (once per scenario).
+bool Checker::within_tree_budget(const ir::TreeInstance& inst, const ast::TreeRef& ref, ScenarioCtx& ctx) {
+    const size_t limit = options_.max_scenario_tree_nodes;
+    const bool over = ctx.tree_nodes > limit;
+    ctx.tree_nodes += inst.nodes.size();
+    if (ctx.tree_nodes <= limit) return true;
+    if (!over) {
+        auto* d = error("E0306", ref.range, "the agents' trees of scenario '" + ctx.name + "' expand to more than " +
+                                                std::to_string(limit) + " nodes");
+        d->notes.push_back({{}, "this agent's tree has " + std::to_string(inst.nodes.size()) +
+                                " nodes with its subtrees inlined; the agents before it have " +
+                                std::to_string(ctx.tree_nodes - inst.nodes.size())});
+    }
+    return false;
+}
+
 int32_t Checker::expand_node(const ast::Node& n, const Env& env, ScenarioCtx& ctx,
                              ir::TreeInstance& inst, const std::string& path) {
     if (env.stack.size() > kMaxExpansionDepth) return -1;
+    // Past the limit the expansion stops (E0306, expand_tree_ref): its work is bounded by the limit.
+    if (inst.nodes.size() > kMaxTreeNodes) return -1;
     if (n.kind == ast::NodeKind::subtree) {
         TreeSym* t = nullptr;
         auto it = tree_index_.find(n.callee.str());

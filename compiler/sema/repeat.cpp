@@ -60,9 +60,11 @@ ast::Quantity index_quantity(int64_t k, SourceRange where) {
 struct Substitute {
     const std::string& var;
     int64_t k;
+    mutable bool replaced = false;  // whether it replaced the index anywhere
 
     void arith(ast::Arith& a) const {
         if (a.kind == ast::Arith::Kind::name && a.name.parts.size() == 1 && a.name.parts[0].text == var) {
+            replaced = true;
             a.kind = ast::Arith::Kind::quantity;
             a.quantity = index_quantity(a.negate ? -k : k, a.range);
             if (a.negate) a.quantity.text = "-" + std::to_string(k);
@@ -74,6 +76,7 @@ struct Substitute {
     }
     void primary(ast::Primary& p) const {
         if (p.kind == ast::Primary::Kind::name && p.name.parts.size() == 1 && p.name.parts[0].text == var) {
+            replaced = true;
             p.kind = ast::Primary::Kind::quantity;
             p.quantity = index_quantity(k, p.range);
             p.name = {};
@@ -296,6 +299,12 @@ const ast::ScenarioDecl& Checker::expand_templates(const ast::ScenarioDecl& s) {
         auto hi = repeat_bound(r.hi);
         if (!lo || !hi) continue;
         const std::string var = r.var ? r.var->text : "i";
+        // Whether its tree reference uses the index: if not, its instances' trees expand alike.
+        ast::VehicleDecl trees_only;
+        trees_only.trees = v.trees;
+        const Substitute probe{var, *lo};
+        probe.agent(trees_only);
+        const ast::VehicleDecl* tree_of = probe.replaced ? nullptr : &v;
         const std::string of = v.name.text + "[" + (r.var ? var + " = " : "") + std::to_string(*lo) + ".." +
                                std::to_string(*hi) + "]";
         if (*hi < *lo) {
@@ -331,6 +340,7 @@ const ast::ScenarioDecl& Checker::expand_templates(const ast::ScenarioDecl& s) {
             auto inst = std::make_shared<ast::VehicleDecl::Instance>();
             inst->label = one.name.text + " (" + var + " = " + std::to_string(k) + ")";
             inst->of = of;
+            inst->tree_of = tree_of;
             one.instance = std::move(inst);
             Substitute{var, k}.agent(one);
             c->vehicles.push_back(std::move(one));

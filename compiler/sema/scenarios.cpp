@@ -298,7 +298,7 @@ ir::Vehicle Checker::check_vehicle(const ast::VehicleDecl& v, ScenarioCtx& ctx,
             d->notes.push_back({{}, v.is_pedestrian ? "add e.g. 'tree std.walk()' (import \"std/pedestrian.sdv\")"
                                                     : "add e.g. 'tree std.drive()' (import \"std/drive.sdv\")"});
         } else {
-            out.tree = expand_vehicle_tree(v.trees[0], ctx, program);
+            out.tree = expand_vehicle_tree(v, ctx, program);
             if (out.tree >= 0) check_tree_agent(v.trees[0], out, program);
         }
     } else if (!v.trees.empty()) {

@@ -96,8 +96,14 @@ bool Checker::can_select(const ast::Node& n, int depth) {
         case ast::NodeKind::subtree: {
             auto it = tree_index_.find(n.callee.str());
             if (it == tree_index_.end() || cyclic_.count(it->second)) return true;  // reported
+            // Memoised by tree and depth: a tree referencing another twice, which references a
+            // third twice, ... would otherwise be walked once per path (2^64 at the depth limit).
+            const auto key = std::make_pair(it->second, depth + 1);
+            if (auto m = can_select_memo_.find(key); m != can_select_memo_.end()) return m->second;
             const auto& body = trees_[it->second].decl->body;
-            return body.empty() ? false : can_select(*body[0], depth + 1);
+            const bool result = body.empty() ? false : can_select(*body[0], depth + 1);
+            can_select_memo_.emplace(key, result);
+            return result;
         }
         default:
             for (const auto& c : n.children) {
@@ -129,8 +135,12 @@ bool Checker::always_succeeds(const ast::Node& n, int depth) {
         case ast::NodeKind::subtree: {
             auto it = tree_index_.find(n.callee.str());
             if (it == tree_index_.end() || cyclic_.count(it->second)) return false;
+            const auto key = std::make_pair(it->second, depth + 1);  // memoised as can_select
+            if (auto m = succeeds_memo_.find(key); m != succeeds_memo_.end()) return m->second;
             const auto& body = trees_[it->second].decl->body;
-            return body.size() == 1 && always_succeeds(*body[0], depth + 1);
+            const bool result = body.size() == 1 && always_succeeds(*body[0], depth + 1);
+            succeeds_memo_.emplace(key, result);
+            return result;
         }
         default: return false;
     }

@@ -113,6 +113,14 @@ TEST_CASE("a compact declaration lowers to the IR of its agents written out") {
                                            i);
                        },
                        1, n, "  expect min_gap(v1, ego) > 1 m\n"});
+        // A tree reference without the index: expanded once, each agent given a copy.
+        check_same_ir({"a tree without the index",
+                       "vehicle w[1.." + std::to_string(n) + "]: sdv { start lane 2 at (30 + 25 * i) m  tree std.drive(speed = 12 m/s, time_gap = 2 s) }\n",
+                       [](int64_t i) {
+                           return "vehicle w" + std::to_string(i) + ": sdv { start lane 2 at " + std::to_string(30 + 25 * i) +
+                                  " m  tree std.drive(speed = 12 m/s, time_gap = 2 s) }\n";
+                       },
+                       1, n, "  expect no_collision()\n"});
     }
     // A named index starting at 0, a name ending in a digit, goals, lengths and a second lane.
     check_same_ir({"named index from 0",
@@ -168,6 +176,15 @@ TEST_CASE("template errors are reported once, with the instances they failed for
     CHECK(r.diags[0].code == "E0503");
     REQUIRE(!r.diags[0].notes.empty());
     CHECK(r.diags[0].notes.back().message == "for v30 (i = 30), v31 (i = 31), v32 (i = 32) and 18 more of 'v[1..50]'");
+    // An error in a tree expanded once for all the agents (its reference does not use the index)
+    // names every agent all the same.
+    const Result t = compile(std::string(kHead) +
+                             "vehicle v[1..50]: sdv { start lane 1 at (20 + 20 * i) m tree std.drive(speed = 500 m/s) }\n"
+                             "expect no_collision()\n}\n");
+    REQUIRE(t.diags.size() == 1);
+    CHECK(t.diags[0].code == "E0301");
+    REQUIRE(!t.diags[0].notes.empty());
+    CHECK(t.diags[0].notes.back().message == "for v1 (i = 1), v2 (i = 2), v3 (i = 3) and 47 more of 'v[1..50]'");
 }
 
 TEST_CASE("agent templates: names, limits and arithmetic errors") {
