@@ -97,11 +97,12 @@ ENTRIES = {
               "per planning cycle."),
     "E0306": ("tree too large",
               "A vehicle's tree, with its subtrees inlined, has more than 10,000 nodes, or the "
-              "trees of all the agents of one scenario more than 1,000,000. Each reference to a "
-              "subtree inlines it again, so a tree that references another twice, which "
-              "references a third twice, and so on, doubles at every level: 13 such levels pass "
-              "10,000 nodes. Reference a large subtree once (a `fallback` or `sequence` can hold "
-              "what the two references did), or give fewer agents a large tree."),
+              "trees of all the agents of one scenario more than 1,000,000, or their nodes' paths "
+              "(each names the trees above the node, `t/sub/keep_velocity`) more than 100,000,000 "
+              "characters. Each reference to a subtree inlines it again, so a tree that references "
+              "another twice, which references a third twice, and so on, doubles at every level: "
+              "13 such levels pass 10,000 nodes. Reference a large subtree once (a `fallback` or "
+              "`sequence` can hold what the two references did), or give fewer agents a large tree."),
     "E0401": ("missing required parameter",
               "A required maneuver or condition parameter, or a tree parameter without default, "
               "is not given."),

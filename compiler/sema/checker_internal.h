@@ -40,7 +40,7 @@ using catalog::kMaxSamples;
 inline constexpr int kMaxCandidates = 20000;
 inline constexpr int kMaxExpansionDepth = 64;
 inline constexpr int64_t kMaxRepeat = 10000;         // agents of one template
-inline constexpr int64_t kMaxScenarioAgents = 100000;  // agents of one scenario, templates expanded
+// (agents of one scenario, templates expanded: CompileOptions::max_scenario_agents)
 // Nodes of one agent's tree with its subtrees inlined, and of all the agents' trees of a scenario
 // (E0306): a subtree referenced twice is inlined twice, so a chain of such trees doubles its size
 // at every level.
@@ -250,7 +250,8 @@ private:
         int32_t ego = -1;
         std::string name;
         std::map<const ast::VehicleDecl*, ExpandedTree> expanded_trees;
-        size_t tree_nodes = 0;  // of the agents' trees expanded so far (max_scenario_tree_nodes)
+        size_t tree_nodes = 0;       // of the agents' trees expanded so far (max_scenario_tree_nodes)
+        size_t tree_path_chars = 0;  // and of their nodes' paths (max_scenario_tree_path_chars)
     };
 
     void check_scenario(const ast::ScenarioDecl& s, ir::Program& program);
@@ -308,6 +309,8 @@ private:
     std::set<std::tuple<std::string, uint32_t, uint32_t, std::string>> reported_;
     // Where error() also notes each error's code and place, when set (expand_vehicle_tree).
     std::vector<std::pair<std::string, SourceRange>>* error_log_ = nullptr;
+    // The characters of the node paths of the tree being expanded (expand_tree_ref).
+    size_t expansion_path_chars_ = 0;
     diag::Diagnostic scratch_;
     // Agent templates: the expanded scenarios (owned here, the AST keeps what was written),
     // the instance being checked, and per error first reported for an instance the instances

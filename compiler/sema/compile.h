@@ -19,9 +19,14 @@ inline constexpr const char* kCompilerVersion = "sdv 0.1.0";
 struct CompileOptions {
     // Extra directories searched for relative imports after the importing file's directory.
     std::vector<std::string> import_dirs;
-    // The nodes all the agents' trees of one scenario may expand to, subtrees inlined (E0306):
-    // docs/language.md's limit. Tests lower it to reach it with small scenarios.
+    // Limits of what one scenario may expand to, docs/language.md's: its agents, templates
+    // expanded (E0511), and the nodes of all its agents' trees, subtrees inlined, and the
+    // characters of those nodes' paths, which name the trees above each node (E0306). A caller
+    // may lower them: tests, to reach them with small scenarios; the fuzz targets, so that an
+    // input of a few bytes cannot make work in proportion to 100,000 agents.
+    int64_t max_scenario_agents = 100000;
     size_t max_scenario_tree_nodes = 1000000;
+    size_t max_scenario_tree_path_chars = 100000000;
 };
 
 struct Compilation {

@@ -43,6 +43,7 @@ int32_t Checker::expand_tree_ref(const ast::TreeRef& ref, ScenarioCtx& ctx, ir::
     ir::TreeInstance inst;
     const size_t errors_before = diags_->error_count();
     Env env = bind(*t, ref.args, &caller, caller);
+    expansion_path_chars_ = 0;
     if (t->decl->body.size() == 1) expand_node(*t->decl->body[0], env, ctx, inst, t->qname);
     if (inst.nodes.size() > kMaxTreeNodes) {
         auto* d = error("E0306", ref.range, "tree '" + t->qname + "' expands to more than " + std::to_string(kMaxTreeNodes) +
@@ -97,19 +98,28 @@ static void pass_through(const Env& outer, const std::string& label, Env& sub) {
     }
 }
 
-// Whether a scenario's agents' trees, with this one, stay within max_scenario_tree_nodes; if not,
-// an error (once per scenario).
+// Whether a scenario's agents' trees, with this one, stay within max_scenario_tree_nodes and
+// max_scenario_tree_path_chars; if not, an error (once per scenario).
 bool Checker::within_tree_budget(const ir::TreeInstance& inst, const ast::TreeRef& ref, ScenarioCtx& ctx) {
-    const size_t limit = options_.max_scenario_tree_nodes;
-    const bool over = ctx.tree_nodes > limit;
+    const size_t node_limit = options_.max_scenario_tree_nodes, path_limit = options_.max_scenario_tree_path_chars;
+    const bool over = ctx.tree_nodes > node_limit || ctx.tree_path_chars > path_limit;
+    size_t chars = 0;
+    for (const auto& n : inst.nodes) chars += n.path.size();
     ctx.tree_nodes += inst.nodes.size();
-    if (ctx.tree_nodes <= limit) return true;
-    if (!over) {
+    ctx.tree_path_chars += chars;
+    if (ctx.tree_nodes <= node_limit && ctx.tree_path_chars <= path_limit) return true;
+    if (over) return false;
+    if (ctx.tree_nodes > node_limit) {
         auto* d = error("E0306", ref.range, "the agents' trees of scenario '" + ctx.name + "' expand to more than " +
-                                                std::to_string(limit) + " nodes");
+                                                std::to_string(node_limit) + " nodes");
         d->notes.push_back({{}, "this agent's tree has " + std::to_string(inst.nodes.size()) +
                                 " nodes with its subtrees inlined; the agents before it have " +
                                 std::to_string(ctx.tree_nodes - inst.nodes.size())});
+    } else {
+        auto* d = error("E0306", ref.range, "the agents' trees of scenario '" + ctx.name + "' name their nodes with more than " +
+                                                std::to_string(path_limit) + " characters of paths");
+        d->notes.push_back({{}, "a node's path names the trees above it (t/sub/keep_velocity): references to long-named "
+                                "trees nested deep make every node below them long"});
     }
     return false;
 }
@@ -117,8 +127,8 @@ bool Checker::within_tree_budget(const ir::TreeInstance& inst, const ast::TreeRe
 int32_t Checker::expand_node(const ast::Node& n, const Env& env, ScenarioCtx& ctx,
                              ir::TreeInstance& inst, const std::string& path) {
     if (env.stack.size() > kMaxExpansionDepth) return -1;
-    // Past the limit the expansion stops (E0306, expand_tree_ref): its work is bounded by the limit.
-    if (inst.nodes.size() > kMaxTreeNodes) return -1;
+    // Past a limit the expansion stops (E0306, expand_tree_ref): its work is bounded by the limits.
+    if (inst.nodes.size() > kMaxTreeNodes || expansion_path_chars_ > options_.max_scenario_tree_path_chars) return -1;
     if (n.kind == ast::NodeKind::subtree) {
         TreeSym* t = nullptr;
         auto it = tree_index_.find(n.callee.str());
@@ -149,6 +159,7 @@ int32_t Checker::expand_node(const ast::Node& n, const Env& env, ScenarioCtx& ct
     }
     out.name = !label.empty() ? label : n.callee.parts.empty() ? ast::to_string(n.kind) : n.callee.str();
     out.path = path + "/" + out.name;
+    expansion_path_chars_ += out.path.size();
     if (n.kind == ast::NodeKind::parallel) out.success_threshold = parallel_threshold(n, &env);
     if (n.kind == ast::NodeKind::condition || n.kind == ast::NodeKind::maneuver) {
         resolve_leaf(n, env, ctx, out, label);

@@ -320,11 +320,11 @@ const ast::ScenarioDecl& Checker::expand_templates(const ast::ScenarioDecl& s) {
             continue;
         }
         total += count;
-        if (total > kMaxScenarioAgents) {
+        if (total > options_.max_scenario_agents) {
             if (!over) {
                 auto* d = error("E0511", r.range, "scenario '" + s.name.text + "' declares more than " +
-                                                      std::to_string(kMaxScenarioAgents) + " agents");
-                d->notes.push_back({{}, "allowed: at most " + std::to_string(kMaxScenarioAgents) + " agents per scenario"});
+                                                      std::to_string(options_.max_scenario_agents) + " agents");
+                d->notes.push_back({{}, "allowed: at most " + std::to_string(options_.max_scenario_agents) + " agents per scenario"});
             }
             over = true;
             continue;

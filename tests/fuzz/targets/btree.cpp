@@ -25,7 +25,7 @@ int sdv_fuzz_btree(const uint8_t* data, size_t size) {
     auto converted = compiler::gss::convert_btrees({path}, options, sm, diags);
     if (converted && !diags.has_errors()) {
         const std::string display = path + ".sdv";
-        (void)compiler::compile_source(display, converted->text, sm, diags);
+        (void)compiler::compile_source(display, converted->text, sm, diags, fuzz::compile_options());
         fuzz::require_converted_text_compiles("btree", display, sm, diags);
         (void)compiler::syntax::format(sm.add_file(display, converted->text), sm, diags);
     }

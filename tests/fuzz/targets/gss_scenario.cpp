@@ -113,7 +113,7 @@ int sdv_fuzz_gss_scenario(const uint8_t* data, size_t size) {
     if (converted && !diags.has_errors()) {
         // sdv lint and sdv run compile the converted text; sdv convert writes it formatted.
         const std::string display = path + ".sdv";
-        auto result = compiler::compile_source(display, converted->text, sm, diags);
+        auto result = compiler::compile_source(display, converted->text, sm, diags, fuzz::compile_options());
         fuzz::require_converted_text_compiles(kTarget, display, sm, diags);
         if (result.program && !diags.has_errors()) check_no_injection(path, text, *result.program);
         (void)compiler::syntax::format(sm.add_file(display, converted->text), sm, diags);

@@ -86,6 +86,26 @@ TEST_CASE("the agents' trees of a scenario together are limited (E0306), at the 
     CHECK(many.errors == three.errors);
 }
 
+TEST_CASE("the paths naming a scenario's tree nodes are limited in characters (E0306)") {
+    // 40 trees of 400-character names, each referencing the next once, above a tree of 2,047
+    // nodes: each node's path names the 40 (16 KB), 33 MB in all from 35 KB of text.
+    const std::string name(400, 'x');
+    std::string trees;
+    for (int k = 0; k < 40; ++k) trees += "tree " + name + std::to_string(k) + "() { subtree " + name + std::to_string(k + 1) + "() }\n";
+    trees += "tree " + name + "40() { subtree t0() }\n" + chain(10, "sequence", "maneuver keep_velocity()");
+    const std::string car = "    vehicle a: sdv { start lane 1 at 10 m  tree " + name + "0() }\n";
+    sdv::compiler::CompileOptions options;
+    options.max_scenario_tree_path_chars = 1000000;
+    const Result r = compile(kRoad + trees + scenario(car), options);
+    CHECK_FALSE(r.compiled);
+    CHECK(r.errors == std::vector<std::string>{"E0306 the agents' trees of scenario 's' name their nodes with more than 1000000 characters of paths"});
+    // Short names: the same shape is within the limit.
+    std::string short_trees;
+    for (int k = 0; k < 40; ++k) short_trees += "tree u" + std::to_string(k) + "() { subtree u" + std::to_string(k + 1) + "() }\n";
+    short_trees += "tree u40() { subtree t0() }\n" + chain(10, "sequence", "maneuver keep_velocity()");
+    CHECK(compile(kRoad + short_trees + scenario("    vehicle a: sdv { start lane 1 at 10 m  tree u0() }\n"), options).compiled);
+}
+
 TEST_CASE("a tree's shape is checked once per tree, not once per path through its subtrees") {
     // Never selects a maneuver: every path ends in a condition (E0404 for each of the 61 trees).
     const Result never = compile(kRoad + chain(60, "fallback", "condition sim_time(after = 1 s)") + scenario(""));
