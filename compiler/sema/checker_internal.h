@@ -40,11 +40,10 @@ using catalog::kMaxSamples;
 inline constexpr int kMaxCandidates = 20000;
 inline constexpr int kMaxExpansionDepth = 64;
 inline constexpr int64_t kMaxRepeat = 10000;         // agents of one template
-// (agents of one scenario, templates expanded: CompileOptions::max_scenario_agents)
-// Nodes of one agent's tree with its subtrees inlined, and of all the agents' trees of a scenario
-// (E0306): a subtree referenced twice is inlined twice, so a chain of such trees doubles its size
-// at every level.
-// (the second: CompileOptions::max_scenario_tree_nodes).
+// The agents of one scenario: CompileOptions::max_scenario_agents (E0511).
+// The nodes of one agent's tree with its subtrees inlined (E0306; those of all the agents' trees
+// of a scenario: CompileOptions::max_scenario_tree_nodes). A subtree referenced twice is inlined
+// twice, so a chain of trees each referencing the next twice doubles its size at every level.
 inline constexpr size_t kMaxTreeNodes = 10000;
 
 // ------------------------------------------------------------------ small helpers
