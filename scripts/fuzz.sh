@@ -30,7 +30,7 @@
 # executions, seconds, findings and parts so far, the commit the executable was built from and
 # its SHA-256; the artifacts of its findings are copied beside it (TARGET.findings/); with
 # --state-dir, this machine's copy of the campaign is in DIR/machine, not in build/. The
-# command runs parts of M minutes (--part-minutes, default 10; --part-runs K: at most K
+# command runs parts of M minutes (--part-minutes, default 30; --part-runs K: at most K
 # executions a part) one after the other until N executions in all, or P parts (--parts), or a
 # signal (SIGTERM or SIGINT to this script or to the fuzzer's main process; --stop sends it to the
 # script of the campaign of TARGET running on this machine and waits until the part under way is
@@ -85,7 +85,7 @@ usage() {
 }
 
 target="" minutes=10 preset=fuzz runs="" record="" corpus="" jobs=1 keep_going=0 ci=0 build_it=1 resume=0
-max_parts="" part_minutes=10 part_runs="" state_dir="" build_dir="" stop=0
+max_parts="" part_minutes=30 part_runs="" state_dir="" build_dir="" stop=0
 given=("$@")
 number() { [[ "$2" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz.sh: $1 takes a positive whole number, not '$2'" >&2; usage; }; }
 while [ $# -gt 0 ]; do
