@@ -353,8 +353,17 @@ if [ -z "$corpus" ]; then
             for d in build/ci build/release build/dev build/fuzz; do
                 if [ -x "$d/sdv" ]; then sdv_dir=$d; break; fi
             done
+            # Without sanitizers the preset instruments every object for coverage but links no
+            # fuzzer runtime into `sdv`, so it cannot link there: the release preset builds it.
+            # The ASan runtime of the fuzz preset carries the coverage callbacks: its own links.
+            sdv_build=$build
+            [ "$preset" = fuzz ] || sdv_build=$root/build/release
             if [ -z "$sdv_dir" ]; then
-                cmake --build "$build" --target sdv -j "$(nproc)" >>"$build/fuzz-build-$target.log" 2>&1 && sdv_dir=$build
+                echo "fuzz.sh: building sdv in $sdv_build for the seed corpus" >&2
+                { [ -f "$sdv_build/CMakeCache.txt" ] || cmake --preset release >/dev/null; } &&
+                    cmake --build "$sdv_build" --target sdv -j "$(nproc)" >>"$build/fuzz-build-$target.log" 2>&1 &&
+                    sdv_dir=$sdv_build ||
+                    echo "fuzz.sh: building sdv failed (log: $build/fuzz-build-$target.log)" >&2
             fi
             scripts/fuzz-corpus.sh "${sdv_dir:-$build}" "$corpus" >&2
         fi
