@@ -360,7 +360,7 @@ if [ -z "$corpus" ]; then
             [ "$preset" = fuzz ] || sdv_build=$root/build/release
             if [ -z "$sdv_dir" ]; then
                 echo "fuzz.sh: building sdv in $sdv_build for the seed corpus" >&2
-                { [ -f "$sdv_build/CMakeCache.txt" ] || cmake --preset release >/dev/null; } &&
+                { [ "$preset" = fuzz ] || [ -f "$sdv_build/CMakeCache.txt" ] || cmake --preset release >/dev/null; } &&
                     cmake --build "$sdv_build" --target sdv -j "$(nproc)" >>"$build/fuzz-build-$target.log" 2>&1 &&
                     sdv_dir=$sdv_build ||
                     echo "fuzz.sh: building sdv failed (log: $build/fuzz-build-$target.log)" >&2
