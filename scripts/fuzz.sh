@@ -19,8 +19,9 @@
 # build/<preset>/findings/TARGET/ (crash-*, timeout-*, oom-*, leak-*: replay one with
 # `build/<preset>/fuzz/fuzz_TARGET FILE`, then add it to tests/fuzz/regressions/TARGET/).
 # Every input that takes more than 1 s is a finding (-timeout=1; 3 s for the ANTLR front ends
-# and lanelet2 under ASan+UBSan, below), as is one using more than 2 GB. The run stops at the first finding unless
-# --keep-going (libFuzzer's fork mode: each finding is saved and counted, the fuzzing goes on).
+# and lanelet2 under ASan+UBSan, below), as is one using more than 2 GB. The run stops at the
+# first finding unless --keep-going (libFuzzer's fork mode: each finding is saved and counted, the
+# fuzzing goes on).
 # A time-bounded run rewrites its row (target and build) of the table in docs/reliability.md
 # unless --no-record; a count-bounded one only with --record.
 #
